@@ -1,0 +1,41 @@
+// Entity handles: an index into the registry plus a generation. Destroying an entity bumps the
+// generation of its slot, so an old handle to a reused slot is detected as stale instead of
+// silently naming the newcomer.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ballpit {
+
+struct Entity {
+  std::uint32_t index = kInvalidIndex;
+  std::uint32_t generation = 0;
+
+  static constexpr std::uint32_t kInvalidIndex = 0xffffffffu;
+  bool valid() const { return index != kInvalidIndex; }
+  friend bool operator==(Entity, Entity) = default;
+};
+
+std::string to_string(Entity e);
+
+class EntityRegistry {
+ public:
+  Entity create();
+  // Throws ballpit::Error if the handle is stale or was never created.
+  void destroy(Entity e);
+  bool alive(Entity e) const;
+  std::uint32_t capacity() const { return static_cast<std::uint32_t>(generations_.size()); }
+  std::uint32_t live_count() const { return live_; }
+  std::uint32_t generation_of(std::uint32_t index) const { return generations_[index]; }
+  void reserve(std::size_t n) { generations_.reserve(n); }
+
+ private:
+  std::vector<std::uint32_t> generations_;  // current generation of each slot
+  std::vector<std::uint32_t> free_;         // destroyed slots, reused LIFO
+  std::vector<bool> alive_;
+  std::uint32_t live_ = 0;
+};
+
+}  // namespace ballpit

@@ -1,0 +1,37 @@
+// The canonical "pour" scene of shared/SCENES.md, in one place so tests, benchmarks, the
+// headless runner and the Bullet comparison all build exactly the same scene.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/math.h"
+
+namespace ballpit {
+
+class World;
+
+struct PourScene {
+  std::size_t spheres = 10000;
+  float radius = 0.04f;   // (unit: m)
+  float mass = 0.05f;     // (unit: kg)
+  float restitution = 0.5f;
+  float friction = 0.5f;
+  float wall_height = 20.0f;  // (unit: m)
+  std::uint32_t seed = 42;
+  float dt = 1.0f / 60.0f;    // (unit: s)
+  int steps = 600;
+
+  // L = sqrt(N * 5.6e-4): settled depth about 0.8 m.
+  float pit_width() const;
+  // Jittered cubic lattice, spacing 2.2 r, jitter +-0.05 r per axis, layer by layer from
+  // y = r + 0.01 m up.
+  std::vector<Vec3> initial_positions() const;
+  // Fills an empty world: pit, material, gravity, step, spheres (sleeping off, as measured).
+  void build(World& world) const;
+};
+
+// Ball-pit colours, picked by index so every run colours the same sphere the same way.
+std::uint32_t ball_color(std::uint64_t index);
+
+}  // namespace ballpit

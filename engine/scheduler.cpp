@@ -1,0 +1,127 @@
+#include "engine/scheduler.h"
+
+#include <string>
+
+namespace ballpit {
+
+Scheduler::Scheduler(int concurrency) {
+  for (int i = 1; i < concurrency; ++i) workers_.emplace_back([this] { worker_loop(); });
+}
+
+Scheduler::~Scheduler() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_workers_ = true;
+  }
+  wake_.notify_all();
+  for (std::thread& t : workers_) t.join();
+}
+
+System& Scheduler::add(std::unique_ptr<System> system) {
+  accesses_.push_back(system->access());
+  systems_.push_back(std::move(system));
+  graph_dirty_ = true;
+  return *systems_.back();
+}
+
+void Scheduler::clear() {
+  systems_.clear();
+  accesses_.clear();
+  graph_dirty_ = true;
+}
+
+void Scheduler::build_graph() {
+  std::size_t n = systems_.size();
+  successors_.assign(n, {});
+  predecessors_.assign(n, {});
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t i = 0; i < j; ++i)
+      if (accesses_[i].conflicts_with(accesses_[j])) {
+        successors_[i].push_back(j);
+        predecessors_[j].push_back(i);
+      }
+  graph_dirty_ = false;
+}
+
+const std::vector<std::size_t>& Scheduler::predecessors(std::size_t i) {
+  if (graph_dirty_) build_graph();
+  return predecessors_[i];
+}
+
+void Scheduler::run_one(std::size_t i, World& world) {
+  System& s = *systems_[i];
+  AccessScope scope(&accesses_[i], s.name());
+  auto start = Profiler::Clock::now();
+  s.run(world);
+  profiler_.record(std::string(s.name()), start, Profiler::Clock::now());
+}
+
+// Runs one ready system if there is one; called with the lock held, returns with it held.
+bool Scheduler::execute_ready(std::unique_lock<std::mutex>& lock) {
+  if (ready_.empty() || error_) return false;
+  std::size_t i = ready_.back();
+  ready_.pop_back();
+  ++running_;
+  lock.unlock();
+  std::exception_ptr failure;
+  try {
+    run_one(i, *world_);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  lock.lock();
+  --running_;
+  --unfinished_;
+  if (failure) {
+    if (!error_) error_ = failure;
+  } else {
+    for (std::size_t j : successors_[i])
+      if (--waiting_on_[j] == 0) ready_.push_back(j);
+  }
+  wake_.notify_all();
+  return true;
+}
+
+void Scheduler::worker_loop() {
+  std::unique_lock lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [&] { return stop_workers_ || (world_ && !ready_.empty() && !error_); });
+    if (stop_workers_) return;
+    execute_ready(lock);
+  }
+}
+
+void Scheduler::run_frame(World& world) {
+  if (graph_dirty_) build_graph();
+  profiler_.begin_frame();
+  std::size_t n = systems_.size();
+  {
+    std::unique_lock lock(mutex_);
+    waiting_on_.assign(n, 0);
+    ready_.clear();
+    for (std::size_t i = 0; i < n; ++i) waiting_on_[i] = predecessors_[i].size();
+    // Ready systems are taken from the back: push in reverse so registration order leads.
+    for (std::size_t i = n; i-- > 0;)
+      if (waiting_on_[i] == 0) ready_.push_back(i);
+    unfinished_ = n;
+    running_ = 0;
+    error_ = nullptr;
+    world_ = &world;
+    ++frame_id_;
+    wake_.notify_all();
+    while (true) {
+      if (execute_ready(lock)) continue;
+      if (unfinished_ == 0 || (error_ && running_ == 0)) break;
+      wake_.wait(lock);
+    }
+    world_ = nullptr;
+  }
+  profiler_.end_frame();
+  if (error_) {
+    std::exception_ptr e = error_;
+    error_ = nullptr;
+    std::rethrow_exception(e);
+  }
+}
+
+}  // namespace ballpit

@@ -1,0 +1,67 @@
+// Everything a scene sets that is not a per-sphere value: the pit, the materials, the solver.
+// Defaults are the ones the speed-against-error study picked (profiling/reports/); each field
+// says its unit and why its default is what it is.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/math.h"
+
+namespace ballpit {
+
+struct Material {
+  float restitution = 0.5f;  // coefficient of restitution, 0..1 (unitless)
+  float friction = 0.5f;     // Coulomb coefficient (unitless)
+};
+
+// Pair values combine as Box2D does: restitution takes the bouncier surface, friction the
+// geometric mean, so a frictionless surface is frictionless against anything.
+Material combine(const Material& a, const Material& b);
+
+// Axis-aligned pit: floor at y = 0, walls at x, z = +-half_width, up to wall_height. A closed
+// pit also has a lid at wall_height (the tests' closed boxes).
+struct Pit {
+  float half_width = 1.0f;    // (unit: m)
+  float wall_height = 20.0f;  // (unit: m)
+  bool closed = false;
+  Material material;
+
+  // Plane i as n . x >= offset for points inside. Planes: floor, -x, +x, -z, +z, lid.
+  static constexpr int kMaxPlanes = 6;
+  int plane_count() const { return closed ? 6 : 5; }
+  Vec3 plane_normal(int i) const;
+  float plane_offset(int i) const;
+  // A wall stops a sphere only below its top edge; the floor and lid everywhere.
+  bool plane_applies(int i, const Vec3& position) const;
+  bool inside(const Vec3& position, float radius) const;
+};
+
+enum class NarrowphaseMode : std::uint8_t { Grid, Naive };
+
+struct SolverSettings {
+  // Substeps per step. Each substep integrates, warm-starts, solves with bias, moves, and
+  // relaxes: Box2D v3's soft step. More substeps cost linearly and stiffen contacts.
+  int substeps = 4;
+  // Contact spring frequency, capped at half the substep rate for stability (unit: Hz).
+  // Penetration under load L scales as L g / (2 pi f)^2, so piles want it high.
+  float contact_hertz = 120.0f;
+  float damping_ratio = 10.0f;  // heavily over-damped: contacts absorb, never ring (unitless)
+  // Cap on the speed at which overlapping spheres are pushed apart. Deep overlaps (spawned
+  // inside each other) separate over several steps instead of exploding (unit: m/s).
+  float push_out_speed = 1.0f;
+  // Impacts slower than this are perfectly inelastic, so resting piles do not jitter
+  // (unit: m/s). 0 gives every approach its restitution (elastic gas tests).
+  float restitution_threshold = 0.25f;
+  float linear_damping = 0.0f;   // (unit: 1/s)
+  float angular_damping = 0.0f;  // (unit: 1/s)
+  NarrowphaseMode narrowphase = NarrowphaseMode::Grid;
+
+  bool sleeping = true;
+  float sleep_speed = 0.02f;  // below this a sphere counts as still (unit: m/s)
+  float sleep_time = 0.5f;    // still for this long, it sleeps (unit: s)
+  float wake_speed = 0.05f;   // a touching sphere faster than this wakes a sleeper (unit: m/s)
+};
+
+}  // namespace ballpit

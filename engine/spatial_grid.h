@@ -1,0 +1,46 @@
+// The uniform grid over the spheres, rebuilt every step by a counting sort (systems/grid.h).
+// It spans the spheres' bounding box, not the pit: memory is O(N), never O(pit volume). A
+// sphere outside the capped extent is clamped into the border cell, which keeps every true
+// neighbour within one cell (clamping never pulls two cells apart), so the search stays exact.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/aligned_vector.h"
+#include "engine/math.h"
+
+namespace ballpit {
+
+struct SpatialGrid {
+  float cell_size = 0.0f;     // 2 * (largest radius + slow margin) (unit: m)
+  float slow_margin = 0.0f;   // speculative margin covered by a one-cell search (unit: m)
+  Vec3 origin = Vec3::Zero();  // corner of cell (0, 0, 0) (unit: m)
+  int nx = 0, ny = 0, nz = 0;
+  float max_radius = 0.0f;    // (unit: m)
+
+  // Rows of cell k are [cell_start[k], cell_start[k + 1]). Keys run y fastest, then z, then x.
+  Column<std::uint32_t> cell_start;
+  Column<std::uint32_t> cell_of_row;        // cell key of each (sorted) row
+  std::vector<std::uint32_t> new_to_old;    // the last rebuild's permutation
+
+  std::size_t cell_count() const { return static_cast<std::size_t>(nx) * ny * nz; }
+  std::uint32_t key(int x, int y, int z) const {
+    return static_cast<std::uint32_t>((x * nz + z) * ny + y);
+  }
+  int clamp_x(float p) const { return clamp_axis(p - origin.x(), nx); }
+  int clamp_y(float p) const { return clamp_axis(p - origin.y(), ny); }
+  int clamp_z(float p) const { return clamp_axis(p - origin.z(), nz); }
+  int slab_of_key(std::uint32_t k) const { return static_cast<int>(k / (static_cast<std::uint32_t>(ny) * nz)); }
+  // First row of slab x (x may equal nx: one past the last row).
+  std::uint32_t slab_row_begin(int x) const { return cell_start[static_cast<std::size_t>(x) * ny * nz]; }
+
+ private:
+  int clamp_axis(float d, int n) const {
+    int c = static_cast<int>(d / cell_size);
+    if (!(d >= 0.0f)) c = 0;  // also catches NaN
+    return c >= n ? n - 1 : c;
+  }
+};
+
+}  // namespace ballpit

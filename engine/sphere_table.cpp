@@ -1,0 +1,151 @@
+#include "engine/sphere_table.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "engine/error.h"
+
+namespace ballpit {
+
+namespace {
+
+std::string vec_text(const Vec3& v) {
+  std::ostringstream s;
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+void SphereTable::add(Entity e, const SphereDesc& d) {
+  auto fail = [&](const std::string& what) { throw Error("sphere " + to_string(e) + ": " + what); };
+  if (!all_finite(d.position)) fail("position must be finite, got " + vec_text(d.position));
+  if (!all_finite(d.velocity)) fail("velocity must be finite, got " + vec_text(d.velocity));
+  if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
+    fail("radius must be a finite number > 0 m, got " + std::to_string(d.radius));
+  if (!(d.mass > 0.0f) || !std::isfinite(d.mass))
+    fail("mass must be a finite number > 0 kg, got " + std::to_string(d.mass));
+  if (e.index < row_of_.size() && row_of_[e.index] != kNoRow) fail("is already a sphere");
+
+  if (row_of_.size() <= e.index) row_of_.resize(e.index + 1, kNoRow);
+  row_of_[e.index] = static_cast<std::uint32_t>(entity_.size());
+  position_.push_back(d.position);
+  velocity_.push_back(d.velocity);
+  if (has_angular_) angular_velocity_.push_back(Vec3::Zero());
+  radius_.push_back(d.radius);
+  inv_mass_.push_back(1.0f / d.mass);
+  material_.push_back(d.material);
+  color_.push_back(d.color);
+  still_time_.push_back(0.0f);
+  asleep_.push_back(0);
+  entity_.push_back(e.index);
+  generation_.push_back(e.generation);
+}
+
+bool SphereTable::contains(Entity e) const {
+  if (e.index >= row_of_.size() || row_of_[e.index] == kNoRow) return false;
+  return generation_[row_of_[e.index]] == e.generation;
+}
+
+std::uint32_t SphereTable::row(Entity e) const {
+  if (!contains(e)) throw Error(to_string(e) + " is not a live sphere (stale or never added)");
+  return row_of_[e.index];
+}
+
+void SphereTable::remove(Entity e) {
+  std::uint32_t r = row(e);
+  std::uint32_t last = static_cast<std::uint32_t>(size() - 1);
+  auto move_last = [&](auto& c) {
+    if (c.empty()) return;
+    c[r] = c[last];
+    c.pop_back();
+  };
+  row_of_[entity_[last]] = r;
+  row_of_[e.index] = kNoRow;
+  move_last(position_);
+  move_last(velocity_);
+  move_last(angular_velocity_);
+  move_last(radius_);
+  move_last(inv_mass_);
+  move_last(material_);
+  move_last(color_);
+  move_last(still_time_);
+  move_last(asleep_);
+  move_last(entity_);
+  move_last(generation_);
+}
+
+void SphereTable::reserve(std::size_t n) {
+  position_.reserve(n);
+  velocity_.reserve(n);
+  if (has_angular_) angular_velocity_.reserve(n);
+  radius_.reserve(n);
+  inv_mass_.reserve(n);
+  material_.reserve(n);
+  color_.reserve(n);
+  still_time_.reserve(n);
+  asleep_.reserve(n);
+  entity_.reserve(n);
+  generation_.reserve(n);
+}
+
+void SphereTable::clear() {
+  for (std::uint32_t index : entity_) row_of_[index] = kNoRow;
+  position_.clear();
+  velocity_.clear();
+  angular_velocity_.clear();
+  radius_.clear();
+  inv_mass_.clear();
+  material_.clear();
+  color_.clear();
+  still_time_.clear();
+  asleep_.clear();
+  entity_.clear();
+  generation_.clear();
+}
+
+void SphereTable::set_angular(bool enabled) {
+  has_angular_ = enabled;
+  if (enabled) {
+    angular_velocity_.assign(size(), Vec3::Zero());
+  } else {
+    angular_velocity_.clear();
+    angular_velocity_.shrink_to_fit();
+  }
+}
+
+template <class T>
+void SphereTable::gather(Column<T>& column, std::span<const std::uint32_t> new_to_old) {
+  if (column.empty()) return;
+  Column<T> out(column.size());
+  const std::int64_t n = static_cast<std::int64_t>(column.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) out[i] = column[new_to_old[i]];
+  column.swap(out);
+}
+
+void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
+  gather(position_, new_to_old);
+  gather(velocity_, new_to_old);
+  gather(angular_velocity_, new_to_old);
+  gather(radius_, new_to_old);
+  gather(inv_mass_, new_to_old);
+  gather(material_, new_to_old);
+  gather(color_, new_to_old);
+  gather(still_time_, new_to_old);
+  gather(asleep_, new_to_old);
+  gather(entity_, new_to_old);
+  gather(generation_, new_to_old);
+  const std::int64_t n = static_cast<std::int64_t>(entity_.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) row_of_[entity_[i]] = static_cast<std::uint32_t>(i);
+}
+
+std::size_t SphereTable::bytes_per_sphere() const {
+  std::size_t b = sizeof(Vec3) * 2 + sizeof(float) * 3 + sizeof(std::uint16_t) +
+                  sizeof(std::uint32_t) * 4 + sizeof(std::uint8_t);
+  if (has_angular_) b += sizeof(Vec3);
+  return b;
+}
+
+}  // namespace ballpit

@@ -1,0 +1,110 @@
+// Spheres as structure-of-arrays: one cache-aligned column per field, one row per sphere. Rows
+// are reordered every step (by grid cell, so neighbours sit together in memory); the entity ->
+// row map follows each reorder, so handles stay valid while rows move.
+//
+// Angular velocity is allocated only when a scene has friction: without friction nothing can
+// spin a smooth sphere, and the column would cost 12 bytes a sphere for nothing.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "engine/access.h"
+#include "engine/aligned_vector.h"
+#include "engine/entity.h"
+#include "engine/math.h"
+
+namespace ballpit {
+
+struct SphereDesc {
+  Vec3 position = Vec3::Zero();  // (unit: m)
+  Vec3 velocity = Vec3::Zero();  // (unit: m/s)
+  float radius = 0.04f;          // (unit: m)
+  float mass = 0.05f;            // (unit: kg)
+  std::uint16_t material = 0;    // index into World::materials
+  std::uint32_t color = 0xffffffffu;  // RGBA8, red in the low byte
+};
+
+class SphereTable {
+ public:
+  static constexpr std::uint32_t kNoRow = 0xffffffffu;
+
+  // Validates the description (finite position and velocity, radius > 0, mass > 0) and throws
+  // ballpit::Error naming the entity and the field otherwise.
+  void add(Entity e, const SphereDesc& d);
+  void remove(Entity e);  // swap-remove: the last row moves into the hole
+  void reserve(std::size_t n);
+  void clear();
+
+  std::size_t size() const { return entity_.size(); }
+  bool contains(Entity e) const;
+  // Throws ballpit::Error if e is not a live sphere.
+  std::uint32_t row(Entity e) const;
+  Entity entity_at(std::uint32_t row) const { return {entity_[row], generation_[row]}; }
+
+  void set_angular(bool enabled);
+  bool has_angular() const { return has_angular_; }
+
+  // Column access. The const overloads declare a read, the mut_ ones a write; both are checked
+  // against the running system's declared Access in debug builds.
+  std::span<const Vec3> position() const { return read(ColumnId::SpherePosition, position_); }
+  std::span<const Vec3> velocity() const { return read(ColumnId::SphereVelocity, velocity_); }
+  std::span<const Vec3> angular_velocity() const {
+    return read(ColumnId::SphereAngularVelocity, angular_velocity_);
+  }
+  std::span<const float> radius() const { return read(ColumnId::SphereRadius, radius_); }
+  std::span<const float> inv_mass() const { return read(ColumnId::SphereInvMass, inv_mass_); }
+  std::span<const std::uint16_t> material() const { return read(ColumnId::SphereMaterial, material_); }
+  std::span<const std::uint32_t> color() const { return read(ColumnId::SphereColor, color_); }
+  std::span<const float> still_time() const { return read(ColumnId::SphereSleep, still_time_); }
+  std::span<const std::uint8_t> asleep() const { return read(ColumnId::SphereSleep, asleep_); }
+  std::span<const std::uint32_t> entity_index() const { return read(ColumnId::SphereRows, entity_); }
+
+  std::span<Vec3> mut_position() { return write(ColumnId::SpherePosition, position_); }
+  std::span<Vec3> mut_velocity() { return write(ColumnId::SphereVelocity, velocity_); }
+  std::span<Vec3> mut_angular_velocity() {
+    return write(ColumnId::SphereAngularVelocity, angular_velocity_);
+  }
+  std::span<float> mut_radius() { return write(ColumnId::SphereRadius, radius_); }
+  std::span<float> mut_inv_mass() { return write(ColumnId::SphereInvMass, inv_mass_); }
+  std::span<std::uint32_t> mut_color() { return write(ColumnId::SphereColor, color_); }
+  std::span<float> mut_still_time() { return write(ColumnId::SphereSleep, still_time_); }
+  std::span<std::uint8_t> mut_asleep() { return write(ColumnId::SphereSleep, asleep_); }
+
+  // Moves row new_to_old[i] to row i for every column, and updates the entity -> row map.
+  // new_to_old must be a permutation of [0, size()).
+  void permute(std::span<const std::uint32_t> new_to_old);
+
+  // Bytes held per sphere by the columns (for the memory report).
+  std::size_t bytes_per_sphere() const;
+
+ private:
+  template <class T>
+  static std::span<const T> read(ColumnId id, const Column<T>& c) {
+    check_access(id, false);
+    return {c.data(), c.size()};
+  }
+  template <class T>
+  static std::span<T> write(ColumnId id, Column<T>& c) {
+    check_access(id, true);
+    return {c.data(), c.size()};
+  }
+  template <class T>
+  void gather(Column<T>& column, std::span<const std::uint32_t> new_to_old);
+
+  Column<Vec3> position_;
+  Column<Vec3> velocity_;
+  Column<Vec3> angular_velocity_;  // empty unless has_angular_
+  Column<float> radius_;
+  Column<float> inv_mass_;
+  Column<std::uint16_t> material_;
+  Column<std::uint32_t> color_;
+  Column<float> still_time_;       // seconds spent below the sleep speed (unit: s)
+  Column<std::uint8_t> asleep_;
+  Column<std::uint32_t> entity_;      // entity index of each row
+  Column<std::uint32_t> generation_;  // entity generation of each row
+  std::vector<std::uint32_t> row_of_;  // entity index -> row, kNoRow if not a sphere
+  bool has_angular_ = false;
+};
+
+}  // namespace ballpit

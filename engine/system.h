@@ -1,0 +1,22 @@
+// A system: a named piece of per-step work that declares the columns it reads and writes. The
+// declaration is the whole contract with the scheduler: it orders two systems exactly when
+// their declarations conflict, in the order they were added.
+#pragma once
+
+#include <string_view>
+
+#include "engine/access.h"
+
+namespace ballpit {
+
+class World;
+
+class System {
+ public:
+  virtual ~System() = default;
+  virtual std::string_view name() const = 0;
+  virtual Access access() const = 0;
+  virtual void run(World& world) = 0;
+};
+
+}  // namespace ballpit

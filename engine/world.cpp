@@ -1,0 +1,81 @@
+#include "engine/world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "engine/error.h"
+
+namespace ballpit {
+
+World::World() { materials.push_back(Material{}); }
+
+Entity World::add_sphere(const SphereDesc& d) {
+  Entity e = entities.create();
+  try {
+    if (d.material >= materials.size()) {
+      throw Error("sphere " + to_string(e) + ": material " + std::to_string(d.material) +
+                  " does not exist (the world has " + std::to_string(materials.size()) + ")");
+    }
+    spheres.add(e, d);
+  } catch (...) {
+    entities.destroy(e);
+    throw;
+  }
+  return e;
+}
+
+void World::remove_sphere(Entity e) {
+  spheres.remove(e);
+  entities.destroy(e);
+}
+
+void World::set_gravity(const Vec3& g) {
+  if (!all_finite(g)) throw Error("gravity must be finite");
+  if (g == gravity_) return;
+  gravity_ = g;
+  auto asleep = spheres.mut_asleep();
+  auto still = spheres.mut_still_time();
+  std::fill(asleep.begin(), asleep.end(), std::uint8_t{0});
+  std::fill(still.begin(), still.end(), 0.0f);
+}
+
+void World::set_step(float dt) {
+  if (!std::isfinite(dt) || !(dt > 0.0f)) {
+    throw Error("step dt must be a finite number > 0 s, got " + std::to_string(dt));
+  }
+  dt_ = dt;
+}
+
+std::uint16_t World::add_material(const Material& m) {
+  if (!(m.restitution >= 0.0f && m.restitution <= 1.0f))
+    throw Error("material restitution must be in [0, 1], got " + std::to_string(m.restitution));
+  if (!(m.friction >= 0.0f) || !std::isfinite(m.friction))
+    throw Error("material friction must be a finite number >= 0, got " + std::to_string(m.friction));
+  materials.push_back(m);
+  return static_cast<std::uint16_t>(materials.size() - 1);
+}
+
+void World::validate_settings() const {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw Error(what);
+  };
+  const SolverSettings& s = solver;
+  require(s.substeps >= 1 && s.substeps <= 64, "solver.substeps must be in [1, 64], got " + std::to_string(s.substeps));
+  require(s.contact_hertz > 0 && std::isfinite(s.contact_hertz), "solver.contact_hertz must be > 0");
+  require(s.damping_ratio >= 0 && std::isfinite(s.damping_ratio), "solver.damping_ratio must be >= 0");
+  require(s.push_out_speed > 0 && std::isfinite(s.push_out_speed), "solver.push_out_speed must be > 0 m/s");
+  require(s.restitution_threshold >= 0 && std::isfinite(s.restitution_threshold),
+          "solver.restitution_threshold must be >= 0 m/s");
+  require(s.linear_damping >= 0 && s.angular_damping >= 0, "solver damping must be >= 0 1/s");
+  require(s.sleep_speed >= 0 && s.sleep_time > 0 && s.wake_speed >= 0, "solver sleep settings must be >= 0");
+  require(pit.half_width > 0 && std::isfinite(pit.half_width), "pit.half_width must be > 0 m");
+  require(pit.wall_height > 0 && std::isfinite(pit.wall_height), "pit.wall_height must be > 0 m");
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    const Material& m = materials[i];
+    require(m.restitution >= 0 && m.restitution <= 1, "materials[" + std::to_string(i) + "].restitution must be in [0, 1]");
+    require(m.friction >= 0 && std::isfinite(m.friction), "materials[" + std::to_string(i) + "].friction must be >= 0");
+  }
+}
+
+}  // namespace ballpit

@@ -1,0 +1,56 @@
+// The simulation state: entity registry, component tables, shared resources (grid, contacts)
+// and the scene's settings. Systems read and write it through the columns they declare.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/collider_table.h"
+#include "engine/contact_set.h"
+#include "engine/entity.h"
+#include "engine/settings.h"
+#include "engine/spatial_grid.h"
+#include "engine/sphere_table.h"
+
+namespace ballpit {
+
+class World {
+ public:
+  World();
+
+  // Adds a sphere after validating it (see SphereDesc); throws ballpit::Error naming the entity.
+  Entity add_sphere(const SphereDesc& d);
+  void remove_sphere(Entity e);
+
+  // Gravity may change at any time (the app ties it to the camera); it wakes every sleeper,
+  // since a resting pile is only at rest for the gravity it settled under.
+  void set_gravity(const Vec3& g);
+  const Vec3& gravity() const { return gravity_; }
+
+  // Validates and sets the fixed step (unit: s); throws ballpit::Error if not finite and > 0.
+  void set_step(float dt);
+  float step() const { return dt_; }
+
+  // Angular state exists only in scenes that can spin spheres (any friction).
+  void enable_angular(bool enabled) { spheres.set_angular(enabled); }
+
+  std::uint16_t add_material(const Material& m);
+  // Throws ballpit::Error if the settings are out of range, naming the field.
+  void validate_settings() const;
+
+  EntityRegistry entities;
+  SphereTable spheres;
+  ColliderTable colliders;
+  std::vector<Material> materials;
+  Pit pit;
+  SolverSettings solver;
+  SpatialGrid grid;
+  ContactSet contacts;
+  std::uint64_t step_count = 0;
+
+ private:
+  Vec3 gravity_ = Vec3(0.0f, -9.81f, 0.0f);
+  float dt_ = 1.0f / 60.0f;
+};
+
+}  // namespace ballpit

@@ -1,0 +1,149 @@
+#include "systems/grid.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/world.h"
+
+namespace ballpit {
+
+namespace {
+
+struct Bounds {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max());
+  Vec3 hi = Vec3::Constant(-std::numeric_limits<float>::max());
+  float max_radius = 0.0f;
+};
+
+// Min, max and largest radius: exact operations, so the parallel reduction is deterministic.
+Bounds measure(std::span<const Vec3> p, std::span<const float> r) {
+  Bounds total;
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+#pragma omp parallel
+  {
+    Bounds local;
+#pragma omp for schedule(static) nowait
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (!p[i].allFinite()) continue;  // the guard reports it; the grid clamps it to cell 0
+      local.lo = local.lo.cwiseMin(p[i]);
+      local.hi = local.hi.cwiseMax(p[i]);
+      local.max_radius = std::max(local.max_radius, r[i]);
+    }
+#pragma omp critical
+    {
+      total.lo = total.lo.cwiseMin(local.lo);
+      total.hi = total.hi.cwiseMax(local.hi);
+      total.max_radius = std::max(total.max_radius, local.max_radius);
+    }
+  }
+  if (total.lo.x() > total.hi.x()) total.lo = total.hi = Vec3::Zero();
+  return total;
+}
+
+void choose_extent(SpatialGrid& g, const Bounds& b, std::size_t n) {
+  g.max_radius = b.max_radius;
+  g.slow_margin = kSlowMarginFraction * b.max_radius;
+  g.cell_size = std::max(2.0f * (b.max_radius + g.slow_margin), 1e-6f);
+  g.origin = b.lo;
+  auto cells = [&](float extent) {
+    double c = std::floor(static_cast<double>(extent) / g.cell_size) + 1.0;
+    return static_cast<int>(std::clamp(c, 1.0, 1e6));
+  };
+  g.nx = cells(b.hi.x() - b.lo.x());
+  g.ny = cells(b.hi.y() - b.lo.y());
+  g.nz = cells(b.hi.z() - b.lo.z());
+  // Cap the cell count at O(N). Height goes first: a pit is wide and shallow, and the spheres
+  // that stretch the box upward are the few flying ones. Clamped spheres stay correct, only
+  // slower to search.
+  const std::size_t cap = std::max<std::size_t>(kCellsPerSphere * n, 64);
+  std::size_t columns = static_cast<std::size_t>(g.nx) * g.nz;
+  if (columns * g.ny > cap) g.ny = static_cast<int>(std::max<std::size_t>(1, cap / columns));
+  while (static_cast<std::size_t>(g.nx) * g.nz * g.ny > cap) {
+    if (g.nx >= g.nz) g.nx = std::max(1, g.nx / 2);
+    else g.nz = std::max(1, g.nz / 2);
+  }
+}
+
+}  // namespace
+
+void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> r, GridScratch& s) {
+  const std::size_t n = p.size();
+  choose_extent(g, measure(p, r), n);
+  const std::size_t cells = g.cell_count();
+  const int threads = omp_get_max_threads();
+  s.keys.resize(n);
+  s.histograms.assign(static_cast<std::size_t>(threads) * cells, 0);
+  g.cell_start.assign(cells + 1, 0);
+  g.cell_of_row.resize(n);
+  g.new_to_old.resize(n);
+  const std::int64_t count = static_cast<std::int64_t>(n);
+  std::vector<std::uint32_t> range_offset(static_cast<std::size_t>(threads), 0);
+
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    const int team = omp_get_num_threads();
+    // The same contiguous chunk per thread in both passes keeps the scatter stable.
+    const std::int64_t begin = count * t / team, end = count * (t + 1) / team;
+    std::uint32_t* hist = s.histograms.data() + static_cast<std::size_t>(t) * cells;
+    for (std::int64_t i = begin; i < end; ++i) {
+      std::uint32_t k = g.key(g.clamp_x(p[i].x()), g.clamp_y(p[i].y()), g.clamp_z(p[i].z()));
+      s.keys[i] = k;
+      ++hist[k];
+    }
+#pragma omp barrier
+    // Prefix sum over (cell, thread): each thread totals its range of cells, one thread scans
+    // the range totals, then each thread turns its range into scatter cursors.
+    const std::size_t c0 = cells * t / team, c1 = cells * (t + 1) / team;
+    std::uint32_t range_total = 0;
+    for (std::size_t k = c0; k < c1; ++k)
+      for (int u = 0; u < team; ++u) range_total += s.histograms[static_cast<std::size_t>(u) * cells + k];
+    range_offset[t] = range_total;
+#pragma omp barrier
+#pragma omp single
+    {
+      std::uint32_t running = 0;
+      for (int u = 0; u < team; ++u) {
+        std::uint32_t total = range_offset[u];
+        range_offset[u] = running;
+        running += total;
+      }
+    }
+    std::uint32_t offset = range_offset[t];
+    for (std::size_t k = c0; k < c1; ++k) {
+      g.cell_start[k] = offset;
+      for (int u = 0; u < team; ++u) {
+        std::uint32_t& h = s.histograms[static_cast<std::size_t>(u) * cells + k];
+        std::uint32_t c = h;
+        h = offset;  // histogram becomes the scatter cursor of thread u in cell k
+        offset += c;
+      }
+    }
+#pragma omp barrier
+    for (std::int64_t i = begin; i < end; ++i) {
+      std::uint32_t k = s.keys[i];
+      std::uint32_t dst = hist[k]++;
+      g.new_to_old[dst] = static_cast<std::uint32_t>(i);
+      g.cell_of_row[dst] = k;
+    }
+  }
+  g.cell_start[cells] = static_cast<std::uint32_t>(n);
+}
+
+Access GridSystem::access() const {
+  Access a;
+  a.reads = ColumnSet::all_sphere_columns();
+  a.writes = ColumnSet::all_sphere_columns();
+  a.writes.add(ColumnId::Grid);
+  return a;
+}
+
+void GridSystem::run(World& world) {
+  build_grid(world.grid, world.spheres.position(), world.spheres.radius(), scratch_);
+  world.spheres.permute(world.grid.new_to_old);
+}
+
+}  // namespace ballpit

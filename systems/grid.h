@@ -1,0 +1,45 @@
+// Grid broadphase: rebuilt every step by a parallel counting sort of sphere rows by cell key
+// (per-thread histograms, a prefix sum, a stable scatter), then the sphere table is permuted
+// into that order so each cell, and each x slab of cells, is a contiguous row range.
+// Reads: positions, radii. Writes: every sphere column (the permutation) and the grid.
+// Decision: the grid spans the spheres' bounding box with a capped cell count, not the pit,
+// so memory is O(N) however tall the walls are.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "engine/math.h"
+#include "engine/spatial_grid.h"
+#include "engine/system.h"
+
+namespace ballpit {
+
+struct GridScratch {
+  std::vector<std::uint32_t> histograms;  // threads x cells, reused between steps
+  std::vector<std::uint32_t> keys;        // cell key of each unsorted row
+};
+
+// Speculative margin a one-cell search covers, as a fraction of the largest radius. Larger
+// means fewer spheres need the wide search but more candidates for every sphere.
+inline constexpr float kSlowMarginFraction = 0.25f;
+// Cells allowed per sphere before the grid's extent is capped (clamped).
+inline constexpr std::size_t kCellsPerSphere = 2;
+
+// Sorts rows by cell: fills grid.cell_start, grid.cell_of_row (in sorted order) and
+// grid.new_to_old. Stable, so the order is the same for any thread count.
+void build_grid(SpatialGrid& grid, std::span<const Vec3> positions, std::span<const float> radii,
+                GridScratch& scratch);
+
+class GridSystem : public System {
+ public:
+  std::string_view name() const override { return "grid"; }
+  Access access() const override;
+  void run(World& world) override;
+
+ private:
+  GridScratch scratch_;
+};
+
+}  // namespace ballpit

@@ -1,0 +1,51 @@
+#include "systems/integrate.h"
+
+#include "engine/world.h"
+
+namespace ballpit {
+
+void integrate_velocities(SphereTable& spheres, const Vec3& gravity, float h, const SolverSettings& s) {
+  auto v = spheres.mut_velocity();
+  auto asleep = spheres.asleep();
+  auto inv_mass = spheres.inv_mass();
+  const Vec3 dv = gravity * h;
+  // Implicit damping 1 / (1 + c h): stable for any c and h, unlike 1 - c h.
+  const float linear = 1.0f / (1.0f + h * s.linear_damping);
+  const std::int64_t n = static_cast<std::int64_t>(v.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (asleep[i] || inv_mass[i] == 0.0f) continue;
+    v[i] = (v[i] + dv) * linear;
+  }
+  if (spheres.has_angular() && s.angular_damping > 0.0f) {
+    auto w = spheres.mut_angular_velocity();
+    const float angular = 1.0f / (1.0f + h * s.angular_damping);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) w[i] *= angular;
+  }
+}
+
+void integrate_positions(SphereTable& spheres, float h) {
+  auto x = spheres.mut_position();
+  auto v = spheres.velocity();
+  auto asleep = spheres.asleep();
+  const std::int64_t n = static_cast<std::int64_t>(x.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (!asleep[i]) x[i] += v[i] * h;
+  }
+}
+
+Access IntegrateSystem::access() const {
+  Access a;
+  a.reads = {ColumnId::Gravity, ColumnId::SphereInvMass, ColumnId::SphereSleep};
+  a.writes = {ColumnId::SpherePosition, ColumnId::SphereVelocity, ColumnId::SphereAngularVelocity};
+  return a;
+}
+
+void IntegrateSystem::run(World& world) {
+  integrate_velocities(world.spheres, world.gravity(), world.step(), world.solver);
+  integrate_positions(world.spheres, world.step());
+}
+
+}  // namespace ballpit

@@ -1,0 +1,43 @@
+// Narrowphase: every sphere gathers the partners it may touch during the coming step (spheres
+// from its neighbour cells, pit planes, joint colliders) into per-slab contact lists, and picks
+// up last step's impulses for pairs that persist (warm starting).
+// Reads: sphere positions, velocities, radii, materials, sleep, rows; grid; colliders.
+// Writes: contacts.
+// Decision: contacts are speculative. A pair is kept when its gap is below the sum of both
+// spheres' margins (distance each can travel this step), so the solver can stop a fast sphere
+// at the surface instead of finding it inside, or past, its partner next step.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/system.h"
+
+namespace ballpit {
+
+class World;
+
+struct NarrowphaseScratch {
+  std::vector<float> margin;        // speculative margin per row (unit: m)
+  std::vector<std::uint8_t> fast;   // margin exceeds what a one-cell search covers
+};
+
+// Speculative margin of a sphere moving at `speed` for one step dt under gravity g: the
+// distance it can cover, plus the gravity drop twice over for the velocity it gains.
+float speculative_margin(float speed, float dt, float gravity);
+
+// Fills world.contacts from the current (grid-sorted) rows. Deterministic for any thread
+// count: each slab's lists depend only on its rows.
+void find_contacts(World& world, NarrowphaseScratch& scratch);
+
+class NarrowphaseSystem : public System {
+ public:
+  std::string_view name() const override { return "narrowphase"; }
+  Access access() const override;
+  void run(World& world) override { find_contacts(world, scratch_); }
+
+ private:
+  NarrowphaseScratch scratch_;
+};
+
+}  // namespace ballpit

@@ -1,0 +1,34 @@
+// Contact solver: Box2D v3's soft step, with sub-steps. Each substep integrates velocities,
+// re-applies last substep's impulses (warm start), solves every contact once with a soft
+// push-out bias (capped at push_out_speed), moves the spheres, and relaxes (solves again with
+// no bias, so push-out never becomes bounce). Impacts faster than the restitution threshold
+// get their restitution when they happen, inside the substep, and the part of the substep
+// before the impact is accounted for exactly (see Contact::impact_shift), so a dropped ball
+// returns to e^2 of its height instead of losing a substep's worth of travel each bounce.
+//
+// Reads: radii, inverse masses, sleep, rows, colliders, gravity.
+// Writes: positions, velocities, angular velocities, contacts (impulses, warm-start cache).
+//
+// Parallelism without graph colouring: contacts are listed per grid slab (engine/
+// contact_set.h). Slabs of one parity never share a sphere, so each parity is one parallel
+// sweep, Gauss-Seidel inside a slab; then the serial contacts. The result is the same for any
+// number of threads.
+#pragma once
+
+#include "engine/system.h"
+
+namespace ballpit {
+
+class World;
+
+// Runs the substeps of one step over world.contacts (found by the narrowphase).
+void solve_contacts(World& world);
+
+class SolverSystem : public System {
+ public:
+  std::string_view name() const override { return "solver"; }
+  Access access() const override;
+  void run(World& world) override { solve_contacts(world); }
+};
+
+}  // namespace ballpit
