@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <cstdio>
 #include <vector>
 
@@ -13,13 +14,21 @@
 #include "engine/metrics.h"
 #include "engine/pour_scene.h"
 #include "engine/scheduler.h"
+#include "engine/snapshot.h"
 #include "engine/state_hash.h"
 #include "engine/world.h"
+#include "systems/character_pipeline.h"
+#include "systems/joint_colliders.h"
+#include "systems/nan_guard.h"
 #include "systems/physics_pipeline.h"
+#include "systems/pit_character_scene.h"
 
 namespace ballpit {
 
 namespace {
+
+// Where a run stopped by the NaN guard saves its last good state when --save was not given.
+constexpr const char* kLastGoodSnapshot = "ballpit-last-good.snap";
 
 double peak_rss_mb() {
   rusage u{};
@@ -50,7 +59,9 @@ double round_to(double x, double digits) {
 }  // namespace
 
 nlohmann::ordered_json run_headless(const RunOptions& o) {
-  if (o.scene != "pour") throw Error("--scene: unknown scene '" + o.scene + "' (known: pour)");
+  const bool character = o.scene == "pit-character";
+  if (o.scene != "pour" && !character)
+    throw Error("--scene: unknown scene '" + o.scene + "' (known: pour, pit-character)");
   if (o.spheres < 1) throw Error("--spheres must be >= 1");
   if (o.steps < 1) throw Error("--steps must be >= 1");
   if (o.threads < 1) throw Error("--threads must be >= 1");
@@ -59,26 +70,65 @@ nlohmann::ordered_json run_headless(const RunOptions& o) {
   World world;
   PourScene scene;
   scene.spheres = o.spheres;
-  scene.build(world);
-  world.solver.sleeping = o.sleeping;
+  PitCharacterScene pit_character;
+  pit_character.pour = scene;
+  Entity walker;
+  const bool loaded = !o.load_path.empty();
+  if (loaded && character) throw Error("--load: snapshots do not store the character yet; use --scene pour");
+  if (loaded) load_snapshot(world, o.load_path);
+  else if (character) walker = pit_character.build(world);
+  else scene.build(world);
+  if (!loaded || o.sleeping) world.solver.sleeping = o.sleeping;
   if (o.naive) world.solver.narrowphase = NarrowphaseMode::Naive;
   if (o.substeps > 0) world.solver.substeps = o.substeps;
   world.validate_settings();
 
   Scheduler scheduler(o.threads);
   scheduler.profiler().set_tracing(!o.trace_path.empty());
+  add_character_systems(scheduler, world);  // none without a character
   add_physics_systems(scheduler, world);
   FixedStepLoop loop(world, scheduler);
+  if (!o.save_path.empty()) check_snapshot_supported(world);  // refuse before the run, not after
+  // The NaN guard keeps the last good state; snapshots (and so the guard) skip characters.
+  std::optional<NanGuard> guard;
+  if (!character) guard.emplace(world);
+  // pit-character: the pour settles around the standing character first, untimed; --steps
+  // then counts the scripted path (600 = its 10 s) and the profiler shows only those.
+  ColliderOverlap worst_overlap;
+  double fastest_ball = 0.0;
+  if (character) {
+    if (o.progress) std::fprintf(stderr, "[ballpit] settling %d steps before the path\n", pit_character.settle_steps);
+    pit_character.settle(world, scheduler);
+    pit_character.start_path(world, walker);
+    scheduler.profiler().reset();
+  }
 
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(o.steps));
   auto started = std::chrono::steady_clock::now();
   auto last_report = started;
   for (int s = 0; s < o.steps; ++s) {
+    if (guard) guard->before_step(world);  // the guard's checks stay outside the timing
     auto t0 = std::chrono::steady_clock::now();
     loop.step();
     auto t1 = std::chrono::steady_clock::now();
     step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    if (guard) {
+      try {
+        guard->after_step(world, scheduler);
+      } catch (const NonFiniteState& e) {
+        const std::string path = o.save_path.empty() ? std::string(kLastGoodSnapshot) : o.save_path;
+        save_snapshot(guard->last_good(), path);
+        throw Error(std::string(e.what()) + "; the last good state (step " +
+                    std::to_string(guard->last_good().step_count) + ") is saved in '" + path + "'");
+      }
+    }
+    if (character) {  // after each step, outside the timing
+      const ColliderOverlap overlap = measure_collider_overlap(world);
+      worst_overlap.max_depth_r = std::max(worst_overlap.max_depth_r, overlap.max_depth_r);
+      worst_overlap.inside = std::max(worst_overlap.inside, overlap.inside);
+      for (const Vec3& v : world.spheres.velocity()) fastest_ball = std::max(fastest_ball, static_cast<double>(v.norm()));
+    }
     if (o.progress && t1 - last_report > std::chrono::seconds(5)) {
       last_report = t1;
       double elapsed = std::chrono::duration<double>(t1 - started).count();
@@ -90,18 +140,42 @@ nlohmann::ordered_json run_headless(const RunOptions& o) {
   if (o.print_table) std::fprintf(stderr, "%s", scheduler.profiler().table().c_str());
   if (!o.trace_path.empty()) scheduler.profiler().write_trace(o.trace_path);
 
+  nlohmann::ordered_json report = step_report(o.scene, world, o.threads, step_ms);
+  if (!o.save_path.empty()) {
+    auto s0 = std::chrono::steady_clock::now();
+    save_snapshot(world, o.save_path);
+    report["saved"] = o.save_path;
+    report["save_ms"] = round_to(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count(), 1);
+  }
+  if (character) {
+    // Worst step of the run: deepest ball in a collider, and most balls deeper than 1% r.
+    report["max_collider_penetration_r"] = round_to(worst_overlap.max_depth_r, 6);
+    report["balls_inside_colliders"] = worst_overlap.inside;
+    double character_ms = 0.0;
+    for (const SystemStats& s : scheduler.profiler().stats())
+      for (std::string_view name : character_system_names())
+        if (s.name == name) character_ms += s.mean_ms;
+    report["character_ms_per_step"] = round_to(character_ms, 4);
+    report["max_speed_during_run_mps"] = round_to(fastest_ball, 6);  // SCENES.md: "the highest ball speed"
+  }
+  return report;
+}
+
+nlohmann::ordered_json step_report(const std::string& scene, const World& world, int threads,
+                                   const std::vector<double>& step_ms) {
+  const int steps = static_cast<int>(step_ms.size());
   // SCENES.md: steps 0-299 are "pour", 300-599 "settled"; other lengths split in halves.
-  std::size_t split = o.steps == 600 ? 300 : static_cast<std::size_t>(o.steps) / 2;
+  std::size_t split = steps == 600 ? 300 : static_cast<std::size_t>(steps) / 2;
   PhaseTimes pour = summarize({step_ms.begin(), step_ms.begin() + static_cast<std::ptrdiff_t>(split)});
   PhaseTimes settled = summarize({step_ms.begin() + static_cast<std::ptrdiff_t>(split), step_ms.end()});
   Metrics m = measure(world);
   double rss = peak_rss_mb();
 
   nlohmann::ordered_json j;
-  j["scene"] = o.scene;
+  j["scene"] = scene;
   j["spheres"] = world.spheres.size();
-  j["threads"] = o.threads;
-  j["steps"] = o.steps;
+  j["threads"] = threads;
+  j["steps"] = steps;
   j["dt"] = world.step();
   j["ms_per_step_pour_mean"] = round_to(pour.mean, 4);
   j["ms_per_step_pour_median"] = round_to(pour.median, 4);

@@ -1,17 +1,61 @@
-// ballpit: the command line. `ballpit run ...` is the headless runner; see --help.
+// ballpit: the command line. With no subcommand it opens the interactive pit (or, with
+// --screenshot, renders offscreen); `ballpit run` is the headless runner. See --help.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 
+#include "app/gl_context.h"
 #include "app/headless_run.h"
+#include "app/offscreen_run.h"
+#include "app/viewer.h"
 #include "engine/error.h"
 
+namespace {
+
+// Where `ballpit` with no arguments writes its screenshot when there is no display.
+constexpr const char* kFallbackScreenshot = "ballpit.png";
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  CLI::App app{"ballpit: a multithreaded ball-pit physics engine"};
+  CLI::App app{"ballpit: a multithreaded ball-pit physics engine.\n"
+               "With no subcommand: the interactive pit (or offscreen with --screenshot)."};
   app.require_subcommand(0, 1);
 
+  ballpit::OffscreenOptions view;
+  std::string sphere_mode = "impostor";
+  std::string collider_kind = "capsules";
+  bool screenshot_given = false;
+  app.add_option("--scene", view.session.scene, "'play' (the pit with the character) or 'pour' (SCENES.md, balls only)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"play", "pour"}));
+  app.add_option("--spheres", view.session.spheres, "Number of balls (default: the scene's; play 40000, pour 10000)")
+      ->check(CLI::PositiveNumber);
+  CLI::Option* colliders = app.add_option("--colliders", collider_kind, "Joint colliders: 'capsules' or 'spheres'")
+                               ->capture_default_str()
+                               ->check(CLI::IsMember({"capsules", "spheres"}));
+  app.add_option("--threads", view.session.threads, "Worker threads (0: all hardware threads)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 256));
+  app.add_option("--renderer", sphere_mode, "Spheres as 'impostor' (ray-cast, 2 triangles) or 'mesh' (icosphere)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"impostor", "mesh"}));
+  app.add_option("--width", view.size.width, "Window or image width (pixels)")->capture_default_str()->check(CLI::Range(16, 16384));
+  app.add_option("--height", view.size.height, "Window or image height (pixels)")->capture_default_str()->check(CLI::Range(16, 16384));
+  CLI::Option* shot = app.add_option("--screenshot", view.screenshot,
+                                     "Render offscreen (no window, no X needed) and write the final frame to this PNG");
+  CLI::Option* frames = app.add_option("--frames", view.frames,
+                                       "With --screenshot: frames before the shot (one 1/60 s step each); "
+                                       "with a window: close after this many frames")
+                            ->capture_default_str()
+                            ->check(CLI::PositiveNumber);
+  app.add_option("--samples", view.samples, "Multisamples for the screenshot")->capture_default_str()->check(CLI::Range(1, 16));
+  app.add_flag("!--no-ui", view.ui, "Leave the HUD out of the screenshot");
+
   ballpit::RunOptions run;
+  bool headless = false;
   CLI::App* cmd = app.add_subcommand("run", "Run a scene headless and print its report");
+  cmd->add_flag("--headless", headless, "No window at all (always the case for `run`; accepted for clarity)");
   cmd->add_option("--scene", run.scene, "Scene to run (pour)")->capture_default_str();
   cmd->add_option("--spheres", run.spheres, "Number of spheres N")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--steps", run.steps, "Fixed steps to run (1/60 s each)")->capture_default_str()->check(CLI::PositiveNumber);
@@ -22,19 +66,50 @@ int main(int argc, char** argv) {
   cmd->add_option("--substeps", run.substeps, "Solver substeps per step (default: the scene's)")->check(CLI::Range(1, 64));
   cmd->add_flag("--sleeping", run.sleeping, "Let settled spheres sleep (the canonical pour measures without)");
   cmd->add_flag("--naive", run.naive, "Reference all-pairs narrowphase instead of the grid (O(N^2))");
+  cmd->add_option("--load", run.load_path, "Resume from this snapshot instead of building the scene");
+  cmd->add_option("--save", run.save_path,
+                  "Save a snapshot here after the run (and the last good state if the NaN guard stops it)");
   cmd->add_flag("!--no-progress", run.progress, "Do not print progress lines on stderr");
   cmd->add_flag("!--no-table", run.print_table, "Do not print the per-system table on stderr");
 
   CLI11_PARSE(app, argc, argv);
+  screenshot_given = shot->count() > 0;
 
   try {
-    if (app.got_subcommand(cmd) || app.get_subcommands().empty()) {
+    if (app.got_subcommand(cmd)) {
       nlohmann::ordered_json report = ballpit::run_headless(run);
       std::cout << report.dump() << std::endl;
+      return 0;
+    }
+    view.sphere_mode = ballpit::sphere_mode_from_string(sphere_mode);
+    if (colliders->count()) {
+      view.session.colliders = collider_kind == "spheres" ? ballpit::ColliderKind::Spheres : ballpit::ColliderKind::Capsules;
+    }
+    if (screenshot_given) {
+      std::cout << ballpit::run_offscreen(view).dump() << std::endl;
+      return 0;
+    }
+    try {
+      ballpit::ViewerOptions viewer;
+      viewer.session = view.session;
+      viewer.sphere_mode = view.sphere_mode;
+      if (frames->count()) viewer.frames = view.frames;
+      if (app.get_option("--width")->count() || app.get_option("--height")->count()) viewer.size = view.size;
+      ballpit::run_viewer(viewer);
+      return 0;
+    } catch (const ballpit::GlUnavailable& e) {
+      // No display (a server, a container, CI): still show what the engine does.
+      std::fprintf(stderr, "ballpit: %s\nballpit: no interactive window, so running %d frames offscreen instead: "
+                           "per-system report below, screenshot in %s\n",
+                   e.what(), view.frames, kFallbackScreenshot);
+      view.screenshot = kFallbackScreenshot;
+      view.rendering_optional = true;
+      nlohmann::ordered_json report = ballpit::run_offscreen(view);
+      std::cout << report.dump() << std::endl;
+      return report.contains("screenshot") ? 0 : 1;
     }
   } catch (const ballpit::Error& e) {
     std::fprintf(stderr, "ballpit: %s\n", e.what());
     return 2;
   }
-  return 0;
 }

@@ -54,6 +54,9 @@ struct ContactSet {
   std::vector<std::uint32_t> warm_begin;
   std::vector<WarmStartEntry> warm;
 
+  // Rows of sleeping spheres the solver struck hard enough to wake (1), by row this step.
+  std::vector<std::uint8_t> wake_requests;
+
   std::size_t pair_count() const;
   std::size_t static_count() const;
   std::size_t serial_count() const;

@@ -33,4 +33,17 @@ void EntityRegistry::destroy(Entity e) {
   --live_;
 }
 
+void EntityRegistry::restore(std::vector<std::uint32_t> generations, std::vector<std::uint32_t> free_list) {
+  std::vector<bool> alive(generations.size(), true);
+  for (std::uint32_t index : free_list) {
+    if (index >= generations.size() || !alive[index])
+      throw Error("entity free list: index " + std::to_string(index) + " is out of range or repeated");
+    alive[index] = false;
+  }
+  live_ = static_cast<std::uint32_t>(generations.size() - free_list.size());
+  generations_ = std::move(generations);
+  free_ = std::move(free_list);
+  alive_ = std::move(alive);
+}
+
 }  // namespace ballpit

@@ -31,6 +31,13 @@ class EntityRegistry {
   std::uint32_t generation_of(std::uint32_t index) const { return generations_[index]; }
   void reserve(std::size_t n) { generations_.reserve(n); }
 
+  // Exact internal state, for snapshots (engine/snapshot.h): the free list's order decides
+  // which slot create() hands out next, so a resumed run must get it back as it was.
+  const std::vector<std::uint32_t>& free_list() const { return free_; }
+  // Replaces the registry: every slot not in free_list is alive. Throws ballpit::Error if an
+  // index in free_list is out of range or repeated.
+  void restore(std::vector<std::uint32_t> generations, std::vector<std::uint32_t> free_list);
+
  private:
   std::vector<std::uint32_t> generations_;  // current generation of each slot
   std::vector<std::uint32_t> free_;         // destroyed slots, reused LIFO

@@ -41,15 +41,15 @@ struct Pit {
 enum class NarrowphaseMode : std::uint8_t { Grid, Naive };
 
 struct SolverSettings {
-  // Substeps per step. Each substep integrates, warm-starts, solves with bias, moves, and
-  // relaxes: Box2D v3's soft step. More substeps cost linearly and stiffen contacts.
-  int substeps = 4;
-  // Contact spring frequency, capped at half the substep rate for stability (unit: Hz).
-  // Penetration under load L scales as L g / (2 pi f)^2, so piles want it high.
-  float contact_hertz = 120.0f;
-  float damping_ratio = 10.0f;  // heavily over-damped: contacts absorb, never ring (unitless)
+  // Substeps per step. Each substep integrates, warm-starts, solves, moves and relaxes
+  // (systems/solver.h). More substeps cost linearly and converge deep piles better.
+  int substeps = 8;
+  // Fraction of an overlap pushed out per substep, through split-impulse pseudo-velocity
+  // (unitless, 0..1). Pseudo-velocity is forgotten after each move, so a fast rate costs no
+  // energy; above about 0.5 pushes along a chain of overlaps start to overshoot.
+  float push_out_rate = 0.2f;
   // Cap on the speed at which overlapping spheres are pushed apart. Deep overlaps (spawned
-  // inside each other) separate over several steps instead of exploding (unit: m/s).
+  // inside each other) separate over several steps instead of jumping apart (unit: m/s).
   float push_out_speed = 1.0f;
   // Impacts slower than this are perfectly inelastic, so resting piles do not jitter
   // (unit: m/s). 0 gives every approach its restitution (elastic gas tests).

@@ -62,8 +62,7 @@ void World::validate_settings() const {
   };
   const SolverSettings& s = solver;
   require(s.substeps >= 1 && s.substeps <= 64, "solver.substeps must be in [1, 64], got " + std::to_string(s.substeps));
-  require(s.contact_hertz > 0 && std::isfinite(s.contact_hertz), "solver.contact_hertz must be > 0");
-  require(s.damping_ratio >= 0 && std::isfinite(s.damping_ratio), "solver.damping_ratio must be >= 0");
+  require(s.push_out_rate > 0 && s.push_out_rate <= 1, "solver.push_out_rate must be in (0, 1]");
   require(s.push_out_speed > 0 && std::isfinite(s.push_out_speed), "solver.push_out_speed must be > 0 m/s");
   require(s.restitution_threshold >= 0 && std::isfinite(s.restitution_threshold),
           "solver.restitution_threshold must be >= 0 m/s");

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/character.h"
 #include "engine/collider_table.h"
 #include "engine/contact_set.h"
 #include "engine/entity.h"
@@ -41,6 +42,7 @@ class World {
   EntityRegistry entities;
   SphereTable spheres;
   ColliderTable colliders;
+  CharacterTable characters;  // empty unless the scene has a character (systems/character_pipeline.h)
   std::vector<Material> materials;
   Pit pit;
   SolverSettings solver;

@@ -6,7 +6,7 @@ packages=(
   libeigen3-dev libomp-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libassimp-dev assimp-testmodels
-  libglfw3-dev libepoxy-dev libimgui-dev libegl-dev libgl1-mesa-dri xvfb xauth
+  libglfw3-dev libepoxy-dev libimgui-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libpng-dev xvfb xauth
   libbullet-dev
   clang libclang-rt-14-dev
   python3-matplotlib

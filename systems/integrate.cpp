@@ -25,14 +25,21 @@ void integrate_velocities(SphereTable& spheres, const Vec3& gravity, float h, co
   }
 }
 
-void integrate_positions(SphereTable& spheres, float h) {
+void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity, std::span<const std::uint8_t> pushed,
+                         std::span<const Vec3> push_out) {
   auto x = spheres.mut_position();
   auto v = spheres.velocity();
   auto asleep = spheres.asleep();
+  // v was kicked by g h at the start of the substep, so v h overshoots the parabola by this.
+  const Vec3 flight_correction = -0.5f * h * h * gravity;
+  const bool all_free = pushed.empty();
   const std::int64_t n = static_cast<std::int64_t>(x.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
-    if (!asleep[i]) x[i] += v[i] * h;
+    if (asleep[i]) continue;
+    x[i] += v[i] * h;
+    if (all_free || !pushed[i]) x[i] += flight_correction;
+    if (!push_out.empty()) x[i] += push_out[i] * h;
   }
 }
 
@@ -45,7 +52,7 @@ Access IntegrateSystem::access() const {
 
 void IntegrateSystem::run(World& world) {
   integrate_velocities(world.spheres, world.gravity(), world.step(), world.solver);
-  integrate_positions(world.spheres, world.step());
+  integrate_positions(world.spheres, world.step(), world.gravity());
 }
 
 }  // namespace ballpit

@@ -1,8 +1,13 @@
-// Integration: velocities from gravity and damping, positions from velocities (symplectic
-// Euler, which keeps resting contacts exactly at rest). The solver calls these kernels once per
-// substep; IntegrateSystem runs them alone for scenes with no collisions at all.
+// Integration: velocities from gravity and damping, positions from velocities. A sphere in
+// free flight moves on the exact parabola (x += v h - g h^2 / 2, with v already kicked); one
+// that a contact pushed this substep moves by symplectic Euler (x += v h), which keeps resting
+// contacts exactly at rest. The solver calls these kernels once per substep; IntegrateSystem
+// runs them alone for scenes with no collisions at all.
 // Reads: gravity, inverse mass, sleep. Writes: positions, velocities, angular velocities.
 #pragma once
+
+#include <cstdint>
+#include <span>
 
 #include "engine/math.h"
 #include "engine/system.h"
@@ -14,8 +19,11 @@ struct SolverSettings;
 
 // v += g h (then damping) for every awake sphere.
 void integrate_velocities(SphereTable& spheres, const Vec3& gravity, float h, const SolverSettings& s);
-// x += v h for every awake sphere.
-void integrate_positions(SphereTable& spheres, float h);
+// Moves every awake sphere by one substep h. `pushed` (one byte per row, or empty) marks the
+// spheres a contact acted on this substep; the others are in free flight under `gravity`.
+// `push_out` (or empty) adds each row's push-out velocity for this move only.
+void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity,
+                         std::span<const std::uint8_t> pushed = {}, std::span<const Vec3> push_out = {});
 
 class IntegrateSystem : public System {
  public:

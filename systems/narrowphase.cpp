@@ -117,8 +117,8 @@ struct SlabSearch {
 
 }  // namespace
 
-float speculative_margin(float speed, float dt, float gravity) {
-  return speed * dt + gravity * dt * dt;
+float speculative_margin(float speed, float dt, float gravity, float radius) {
+  return speed * dt + gravity * dt * dt + kMinMarginFraction * radius;
 }
 
 Access NarrowphaseSystem::access() const {
@@ -146,7 +146,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   const std::int64_t count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < count; ++i) {
-    float m = asleep[i] ? 0.0f : speculative_margin(v[i].norm(), dt, g);
+    float m = asleep[i] ? kMinMarginFraction * r[i] : speculative_margin(v[i].norm(), dt, g, r[i]);
     scratch.margin[i] = m;
     scratch.fast[i] = m > grid.slow_margin;
   }
@@ -208,9 +208,9 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       if (naive) search.naive_pairs(i, s, out);
       else search.grid_pairs(i, s, out);
       const float m = scratch.margin[i];
-      // A sleeper rests on the planes as it is; colliders are still found for it, so the
-      // sleep system can wake it before a moving limb arrives.
-      for (int p = 0; p < planes && !asleep[i]; ++p) {
+      // Sleepers get their planes and colliders too: the wake system may wake them before
+      // the solver runs, and a woken ball must still have its floor.
+      for (int p = 0; p < planes; ++p) {
         if (!pit.plane_applies(p, x[i])) continue;
         float gap = pit.plane_normal(p).dot(x[i]) - pit.plane_offset(p) - r[i];
         if (gap < m) {
@@ -220,7 +220,9 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
         }
       }
       if (colliders.size() == 0) continue;
-      if ((x[i].array() < box_lo.array() - m).any() || (x[i].array() > box_hi.array() + m).any()) continue;
+      // The sphere's own radius counts too: a centre just outside the box may still touch.
+      const float grow = m + r[i];
+      if ((x[i].array() < box_lo.array() - grow).any() || (x[i].array() > box_hi.array() + grow).any()) continue;
       for (std::size_t c = 0; c < colliders.size(); ++c) {
         float t = closest_segment_parameter(ca[c], cb[c], x[i]);
         Vec3 q = ca[c] + t * (cb[c] - ca[c]);

@@ -22,9 +22,15 @@ struct NarrowphaseScratch {
   std::vector<std::uint8_t> fast;   // margin exceeds what a one-cell search covers
 };
 
+// Every awake sphere lists neighbours within this fraction of its radius, however slow: a
+// resting row must already know its touching pairs when a blow lands mid-step, or the blow
+// cannot pass along it within the step (Newton's cradle).
+inline constexpr float kMinMarginFraction = 0.05f;
+
 // Speculative margin of a sphere moving at `speed` for one step dt under gravity g: the
-// distance it can cover, plus the gravity drop twice over for the velocity it gains.
-float speculative_margin(float speed, float dt, float gravity);
+// distance it can cover, plus the gravity drop twice over for the velocity it gains, plus the
+// minimum above.
+float speculative_margin(float speed, float dt, float gravity, float radius);
 
 // Fills world.contacts from the current (grid-sorted) rows. Deterministic for any thread
 // count: each slab's lists depend only on its rows.

@@ -1,5 +1,5 @@
-// The physics step as systems, added in pipeline order: grid, narrowphase, solver (whose
-// substeps integrate), sleeping. The scheduler derives the dependencies from each system's
+// The physics step as systems, added in pipeline order: grid, narrowphase, wake, solver
+// (whose substeps integrate), sleeping. The scheduler derives the dependencies from each system's
 // declared access; this list only says which systems a world needs: a world without
 // collisions gets a bare integrator, a world without sleeping no sleep system.
 #pragma once

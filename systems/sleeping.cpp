@@ -17,32 +17,35 @@ void wake(std::uint8_t& asleep, float& still) {
 
 }  // namespace
 
+Access WakeSystem::access() const {
+  Access a;
+  a.reads = {ColumnId::SphereVelocity, ColumnId::Contacts, ColumnId::Colliders};
+  a.writes = {ColumnId::SphereSleep};
+  return a;
+}
+
 Access SleepSystem::access() const {
   Access a;
-  a.reads = {ColumnId::SphereRadius, ColumnId::Contacts, ColumnId::Colliders};
+  a.reads = {ColumnId::SphereRadius, ColumnId::Contacts};
   a.writes = {ColumnId::SphereSleep, ColumnId::SphereVelocity, ColumnId::SphereAngularVelocity};
   return a;
 }
 
-void update_sleep(World& world) {
+void wake_approached(World& world) {
   SphereTable& spheres = world.spheres;
-  const SolverSettings& s = world.solver;
   auto asleep = spheres.mut_asleep();
   auto still = spheres.mut_still_time();
-  auto v = spheres.mut_velocity();
-  auto r = spheres.radius();
-  const bool angular = spheres.has_angular();
-  auto w = angular ? spheres.mut_angular_velocity() : std::span<Vec3>{};
+  auto v = spheres.velocity();
   auto cva = world.colliders.velocity_a();
   auto cvb = world.colliders.velocity_b();
-  const float wake2 = s.wake_speed * s.wake_speed;
+  const float wake2 = world.solver.wake_speed * world.solver.wake_speed;
   std::vector<SlabContacts>& slabs = world.contacts.slabs;
   const int count = static_cast<int>(slabs.size());
 
-  auto check_pair = [&](const Contact& c) {
+  auto check = [&](const Contact& c) {
     if (c.b & kColliderTag) {
       std::uint32_t k = c.b & ~kTagMask;
-      if (asleep[c.a] && std::max(cva[k].squaredNorm(), cvb[k].squaredNorm()) > wake2)
+      if (k < cva.size() && asleep[c.a] && std::max(cva[k].squaredNorm(), cvb[k].squaredNorm()) > wake2)
         wake(asleep[c.a], still[c.a]);
       return;
     }
@@ -54,9 +57,31 @@ void update_sleep(World& world) {
   };
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < count; ++k) {
-    for (const Contact& c : slabs[k].pairs) check_pair(c);
-    for (const Contact& c : slabs[k].statics) check_pair(c);
-    for (const Contact& c : slabs[k].serial) check_pair(c);
+    for (const Contact& c : slabs[k].pairs) check(c);
+    for (const Contact& c : slabs[k].statics) check(c);
+    for (const Contact& c : slabs[k].serial) check(c);
+  }
+}
+
+void update_sleep(World& world) {
+  SphereTable& spheres = world.spheres;
+  const SolverSettings& s = world.solver;
+  auto asleep = spheres.mut_asleep();
+  auto still = spheres.mut_still_time();
+  auto v = spheres.mut_velocity();
+  auto r = spheres.radius();
+  const bool angular = spheres.has_angular();
+  auto w = angular ? spheres.mut_angular_velocity() : std::span<Vec3>{};
+
+  auto& requests = world.contacts.wake_requests;
+  if (requests.size() == spheres.size()) {
+    const std::int64_t rows = static_cast<std::int64_t>(requests.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < rows; ++i)
+      if (requests[i]) {
+        asleep[i] = 0;
+        still[i] = 0.0f;
+      }
   }
 
   const float dt = world.step();

@@ -13,7 +13,17 @@ namespace ballpit {
 
 class World;
 
+// Wakes sleepers approached fast (from this step's contacts, found by the narrowphase).
+void wake_approached(World& world);
+// Applies the solver's wake requests, then counts still time and puts still spheres to sleep.
 void update_sleep(World& world);
+
+class WakeSystem : public System {
+ public:
+  std::string_view name() const override { return "wake"; }
+  Access access() const override;
+  void run(World& world) override { wake_approached(world); }
+};
 
 class SleepSystem : public System {
  public:

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "engine/world.h"
 #include "systems/integrate.h"
@@ -15,21 +14,10 @@ namespace {
 // centre is to push.
 constexpr float kSphereAngularFactor = 2.5f;
 
-// Box2D's soft constraint coefficients for a spring of `hertz` and damping ratio `zeta` over
-// a substep h (Catto, "Solver2D", 2024).
-struct Softness {
-  float bias_rate = 0.0f;
-  float mass_scale = 1.0f;
-  float impulse_scale = 0.0f;
-};
-
-Softness make_softness(float hertz, float zeta, float h) {
-  float omega = 2.0f * std::numbers::pi_v<float> * hertz;
-  float a1 = 2.0f * zeta + h * omega;
-  float a2 = h * omega * a1;
-  float a3 = 1.0f / (1.0f + a2);
-  return {omega / a1, a2 * a3, a3};
-}
+// Sweeps of the joint-collider guard per substep. A sphere wedged between two limbs is pushed
+// out of each in turn; a few rounds settle such a wedge (one does not: the second push can
+// undo the first).
+constexpr int kColliderGuardPasses = 4;
 
 enum class Pass { WarmStart, Solve, Relax };
 
@@ -40,13 +28,23 @@ struct Solver {
   const float* r;
   const float* inv_mass;
   const std::uint8_t* asleep;
+  std::uint8_t* pushed;  // rows a contact acted on this substep (see integrate_positions)
+  Vec3* pseudo;          // push-out velocity of each row this substep (split impulse)
+  std::uint8_t* wake_requests;  // sleepers struck hard enough to wake (ContactSet)
   const Pit& pit;
   std::span<const Vec3> ca, cb, cva, cvb;
   std::span<const float> cr;
   float h, inv_h;
-  Softness soft;
+  float push_out_rate;
   float push_out_speed;
   float restitution_threshold;
+  float wake_speed;
+  Vec3 gravity;
+  // Time into the step at which joint colliders are posed (unit: s). A collider row holds its
+  // pose at the step's start and the velocity that carries it to the animation's pose at the
+  // end (systems/joint_colliders.h), so each substep sees it where it is at that moment: a
+  // fast limb sweeps the step in substep-sized moves instead of jumping a whole step at once.
+  float collider_time = 0.0f;
 
   float mobility(std::uint32_t i) const { return asleep[i] ? 0.0f : inv_mass[i]; }
 
@@ -71,8 +69,9 @@ struct Solver {
       return {-np, np.dot(x[a]) - pit.plane_offset(p) - r[a], Vec3::Zero()};
     }
     std::uint32_t c = b & ~kTagMask;
-    float t = closest_segment_parameter(ca[c], cb[c], x[a]);
-    Vec3 q = ca[c] + t * (cb[c] - ca[c]);
+    const Vec3 ea = ca[c] + collider_time * cva[c], eb = cb[c] + collider_time * cvb[c];
+    float t = closest_segment_parameter(ea, eb, x[a]);
+    Vec3 q = ea + t * (eb - ea);
     Vec3 d = q - x[a];
     float dist = d.norm();
     Vec3 n = dist > 1e-9f ? Vec3(d / dist) : Vec3(0.0f, -1.0f, 0.0f);
@@ -82,7 +81,9 @@ struct Solver {
   // One contact, one pass. For a static partner, vb is a scratch copy of its surface velocity
   // and mb = 0, so nothing the contact does to "b" survives.
   template <Pass pass>
-  void contact(Contact& c, const Frame& f, Vec3& vb, Vec3* wb, float mb, float rb) const {
+  // `applied` receives the normal impulse this pass applied (unit: N s).
+  void contact(Contact& c, const Frame& f, Vec3& vb, Vec3* wb, float mb, float rb, float approach_accel,
+               Vec3& pseudo_b, bool& pushed_partner, float& applied) const {
     const std::uint32_t a = c.a;
     const float ma = mobility(a);
     if (ma + mb == 0.0f) return;
@@ -119,32 +120,64 @@ struct Solver {
     if (idle && f.gap > 0.0f && vn + f.gap * inv_h >= 0.0f) return;
     const float normal_mass = 1.0f / (ma + mb);
 
-    // An impact this substep: restitution now, with the gap closed before it remembered so
-    // the move after it can be shortened by exactly the travel it should not have made. Only
-    // an unloaded contact can be struck: in a loaded one (a pile) the warm start moves the
-    // velocities around, and reading that as an impact would pump energy into the pile.
+    // An impact: restitution when it happens, and the move corrected so the pair ends where
+    // the exact bounce leaves it. A pair that will close its gap during the next move must end
+    // it closer by (1+e) x that gap (the move carries it apart for the whole substep); a pair
+    // that overlapped during the last move (seen by Relax) must end apart by (1+e) x the
+    // overlap. Both passes look for impacts: Relax sees what the last move brought together
+    // (Newton's cradle in the order the sweep does not favour) and must catch an approach
+    // before its speculative constraint turns it into a plain inelastic stop. Only an unloaded
+    // contact can be struck: in a loaded one (a pile) the warm start moves velocities around,
+    // and reading that as an impact would pump energy into the pile.
     float impact = 0.0f;
-    if (pass == Pass::Solve && c.restitution > 0.0f && c.normal_impulse == 0.0f &&
-        vn < -restitution_threshold && f.gap + vn * h < 0.0f) {
-      impact = -(1.0f + c.restitution) * vn * normal_mass;
+    if (c.restitution > 0.0f && c.normal_impulse == 0.0f && vn < -restitution_threshold &&
+        f.gap + vn * h < 0.0f) {
+      // A gap the next move will close is the next Solve's impact (it then corrects that
+      // move exactly); Relax must only keep its speculative stop from loading the contact.
+      if (pass == Pass::Relax && f.gap > 0.0f) return;
+      // Gravity changes vn by `approach_accel` per second (static partners only: two falling
+      // spheres share it). The rebound leaves at -e vn(t_contact); what the velocity must be
+      // now, for the substep to end as the exact bounce does, depends on when the contact
+      // falls within the substep: in the move ahead (Solve, or Relax seeing a gap the next
+      // move closes), or in the move just made (Relax seeing an overlap).
+      const bool overlapped_in_last_move = pass == Pass::Relax;
+      const float t = std::clamp(std::max(f.gap, 0.0f) / -vn, 0.0f, h);
+      float target = -c.restitution * vn;
+      if (pass == Pass::Solve) target += (1.0f + c.restitution) * approach_accel * (h - t);
+      impact = (target - vn) * normal_mass;
       apply(impact * n);
-      c.impact_shift = (1.0f + c.restitution) * std::max(f.gap, 0.0f);
-      vn = -c.restitution * vn;
+      c.impact_shift = (1.0f + c.restitution) * (overlapped_in_last_move ? f.gap : std::max(f.gap, 0.0f));
+      vn = target;
     }
 
-    float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
-    if (f.gap > 0.0f) {
-      bias = f.gap * inv_h;  // speculative: may close the gap this substep, not more
-    } else if (pass == Pass::Solve) {
-      bias = std::max(soft.bias_rate * f.gap, -push_out_speed);
-      mass_scale = soft.mass_scale;
-      impulse_scale = soft.impulse_scale;
+    // Split impulse: the velocity constraint is rigid (stop the approach, or let a gap close
+    // exactly), and overlap is pushed out through pseudo-velocities that move positions this
+    // substep and are then forgotten. Push-out therefore never becomes real speed, however
+    // many overlaps add up along a chain (a crowd spawned inside itself).
+    float bias = 0.0f;
+    // Speculative: a gap may close this substep, not more. Not in Relax for a contact that
+    // carries load: push-out may have opened a hair's gap under it, and letting the pair fall
+    // back into it would drain the impulse that holds the pile up.
+    if (f.gap > 0.0f && !(pass == Pass::Relax && c.normal_impulse > 0.0f)) {
+      bias = f.gap * inv_h;
+    } else if (pass == Pass::Solve && pseudo) {
+      Vec3& pa = pseudo[a];
+      const float push = std::max(push_out_rate * inv_h * f.gap, -push_out_speed);
+      const float pvn = (pseudo_b - pa).dot(n);
+      const float dp = std::max(-normal_mass * (pvn + push), 0.0f);
+      pa -= ma * dp * n;
+      pseudo_b += mb * dp * n;
     }
-    float delta = -normal_mass * mass_scale * (vn + bias) - impulse_scale * c.normal_impulse;
+    float delta = -normal_mass * (vn + bias);
     float total = std::max(c.normal_impulse + delta, 0.0f);
     delta = total - c.normal_impulse;
     c.normal_impulse = total;
     apply(delta * n);
+    applied = delta + impact;
+    if (pass == Pass::Solve && (total > 0.0f || impact > 0.0f)) {
+      pushed[a] = 1;
+      if (mb > 0.0f) pushed_partner = true;
+    }
 
     const float limit = c.friction * (c.normal_impulse + impact);
     if (limit == 0.0f && c.friction_impulse.isZero(0.0f)) return;
@@ -167,7 +200,16 @@ struct Solver {
     const std::uint32_t b = c.b;
     Frame f = pair_frame(c.a, b);
     const float mb = mobility(b);
-    contact<pass>(c, f, v[b], w ? &w[b] : nullptr, mb, r[b]);
+    bool pushed_b = false;
+    float applied = 0.0f;
+    contact<pass>(c, f, v[b], w ? &w[b] : nullptr, mb, r[b], 0.0f, pseudo[b], pushed_b, applied);
+    if (pushed_b) pushed[b] = 1;
+    // A sleeper acts as fixed while it sleeps; a blow that would change the mover's speed by
+    // more than wake_speed wakes it (the sleep system acts on the request after the step).
+    if (pass == Pass::Solve && asleep[c.a] != asleep[b]) {
+      const std::uint32_t mover = asleep[c.a] ? b : c.a, sleeper = asleep[c.a] ? c.a : b;
+      if (applied * inv_mass[mover] > wake_speed) wake_requests[sleeper] = 1;
+    }
     if (pass == Pass::Relax && c.impact_shift != 0.0f) {
       const float ma = mobility(c.a), total = ma + mb;
       x[c.a] += f.n * (c.impact_shift * ma / total);
@@ -180,7 +222,10 @@ struct Solver {
   void fixed(Contact& c) const {
     Frame f = static_frame(c.a, c.b);
     Vec3 surface = f.surface_velocity;
-    contact<pass>(c, f, surface, nullptr, 0.0f, 1.0f);
+    bool unused = false;
+    float applied = 0.0f;
+    Vec3 fixed_pseudo = Vec3::Zero();
+    contact<pass>(c, f, surface, nullptr, 0.0f, 1.0f, -gravity.dot(f.n), fixed_pseudo, unused, applied);
     if (pass == Pass::Relax && c.impact_shift != 0.0f) {
       x[c.a] += f.n * c.impact_shift;
       c.impact_shift = 0.0f;
@@ -189,8 +234,35 @@ struct Solver {
 
   template <Pass pass>
   void sweep_local(SlabContacts& s) const {
-    for (Contact& c : s.pairs) pair<pass>(c);
+    // Fixed contacts first: the floor's support then travels up a column of pairs (sorted
+    // bottom-up, y being the fastest key) within one sweep. And last again when solving:
+    // pairs pushed a sphere after its wall did, and the wall must have the last word or a
+    // crowd can squeeze a sphere through it.
     for (Contact& c : s.statics) fixed<pass>(c);
+    for (Contact& c : s.pairs) pair<pass>(c);
+    if (pass == Pass::Solve)
+      for (Contact& c : s.statics) fixed<pass>(c);
+  }
+
+  // Joint-collider guard, once after the last substep, with the colliders where the step
+  // leaves them: a sphere still inside one is moved out to its surface along the contact
+  // normal, and its approach along that normal (relative to the surface) removed. In a jam (a
+  // hoof pressing a ball into the pile) the contacts cannot all hold, and a collider has
+  // infinite mass, so it must win: the spheres' overlap takes the rest, and their push-out
+  // spreads it over the next step. Once per step, not per substep: a guard inside the
+  // substeps keeps re-creating the approach that the pair impacts then bounce (measured: balls
+  // at 14 m/s off a 1 m/s hoof). A slab's statics touch only its own rows.
+  void guard_colliders(SlabContacts& s) const {
+    for (int pass = 0; pass < kColliderGuardPasses; ++pass) {
+      for (const Contact& c : s.statics) {
+        if (!(c.b & kColliderTag)) continue;
+        const Frame f = static_frame(c.a, c.b);
+        if (f.gap >= 0.0f) continue;
+        x[c.a] += f.n * f.gap;  // n points into the collider, gap < 0: outward
+        const float approach = (v[c.a] - f.surface_velocity).dot(f.n);
+        if (approach > 0.0f) v[c.a] -= approach * f.n;
+      }
+    }
   }
 };
 
@@ -253,8 +325,6 @@ void solve_contacts(World& world) {
   const SolverSettings& settings = world.solver;
   const int substeps = settings.substeps;
   const float h = world.step() / static_cast<float>(substeps);
-  // A spring stiffer than half the substep rate is not resolved by the substeps: cap it.
-  const float hertz = std::min(settings.contact_hertz, 0.5f / h);
   const ColliderTable& colliders = world.colliders;
   Solver solver{spheres.mut_position().data(),
                 spheres.mut_velocity().data(),
@@ -262,6 +332,9 @@ void solve_contacts(World& world) {
                 spheres.radius().data(),
                 spheres.inv_mass().data(),
                 spheres.asleep().data(),
+                nullptr,
+                nullptr,
+                nullptr,
                 world.pit,
                 colliders.a(),
                 colliders.b(),
@@ -270,17 +343,34 @@ void solve_contacts(World& world) {
                 colliders.radius(),
                 h,
                 1.0f / h,
-                make_softness(hertz, settings.damping_ratio, h),
+                settings.push_out_rate,
                 settings.push_out_speed,
-                settings.restitution_threshold};
+                settings.restitution_threshold,
+                settings.wake_speed,
+                world.gravity()};
 
   std::vector<SlabContacts>& slabs = world.contacts.slabs;
+  std::vector<std::uint8_t> pushed(spheres.size());
+  solver.pushed = pushed.data();
+  std::vector<Vec3> pseudo(spheres.size());
+  solver.pseudo = pseudo.data();
+  world.contacts.wake_requests.assign(spheres.size(), 0);
+  solver.wake_requests = world.contacts.wake_requests.data();
   for (int sub = 0; sub < substeps; ++sub) {
+    std::fill(pushed.begin(), pushed.end(), std::uint8_t{0});
+    std::fill(pseudo.begin(), pseudo.end(), Vec3::Zero());
     integrate_velocities(spheres, world.gravity(), h, settings);
+    solver.collider_time = static_cast<float>(sub) * h;  // colliders where the substep starts
     sweep<Pass::WarmStart>(slabs, solver);
     sweep<Pass::Solve>(slabs, solver);
-    integrate_positions(spheres, h);
+    integrate_positions(spheres, h, world.gravity(), pushed, pseudo);
+    solver.collider_time = static_cast<float>(sub + 1) * h;  // and where it ends, as the spheres now are
     sweep<Pass::Relax>(slabs, solver);
+  }
+  if (colliders.size() > 0) {  // colliders at the step's end (collider_time = dt)
+    const int count = static_cast<int>(slabs.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < count; ++k) solver.guard_colliders(slabs[k]);
   }
   store_warm_start(world);
 }

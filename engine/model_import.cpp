@@ -1,0 +1,227 @@
+#include "engine/model_import.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "engine/error.h"
+
+namespace ballpit {
+
+namespace {
+
+// assimp's own convention for files that leave the time base unset.
+constexpr double kDefaultTicksPerSecond = 25.0;
+
+// A weight below this is dropped before normalising: the file's rounding noise, far below any
+// visible influence (1e-6 of a vertex's total).
+constexpr float kNegligibleWeight = 1e-6f;
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw Error("model file '" + path + "': " + what);
+}
+
+Affine3 to_affine(const aiMatrix4x4& m) {
+  Mat4 out;
+  out << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
+  return Affine3(out);
+}
+
+Quat to_quat(const aiQuaternion& q) { return Quat(q.w, q.x, q.y, q.z).normalized(); }
+Vec3 to_vec(const aiVector3D& v) { return Vec3(v.x, v.y, v.z); }
+
+// Preorder walk: a node is a joint if it is a bone or an ancestor of one. Returns whether the
+// subtree holds a bone.
+bool has_bone(const aiNode* node, const std::unordered_set<std::string>& bones,
+              std::unordered_map<const aiNode*, bool>& memo) {
+  bool any = bones.count(node->mName.C_Str()) > 0;
+  for (unsigned i = 0; i < node->mNumChildren; ++i) any = has_bone(node->mChildren[i], bones, memo) || any;
+  memo[node] = any;
+  return any;
+}
+
+void add_joints(const aiNode* node, int parent, const std::unordered_set<std::string>& bones,
+                const std::unordered_map<const aiNode*, bool>& memo, Skeleton& sk) {
+  if (!memo.at(node)) return;
+  int self = static_cast<int>(sk.size());
+  aiVector3D scale, position;
+  aiQuaternion rotation;
+  node->mTransformation.Decompose(scale, rotation, position);
+  sk.names.emplace_back(node->mName.C_Str());
+  sk.parents.push_back(parent);
+  sk.rest_translation.push_back(to_vec(position));
+  sk.rest_rotation.push_back(to_quat(rotation));
+  sk.rest_scale.push_back(to_vec(scale));
+  sk.is_bone.push_back(bones.count(node->mName.C_Str()) ? 1 : 0);
+  for (unsigned i = 0; i < node->mNumChildren; ++i) add_joints(node->mChildren[i], self, bones, memo, sk);
+}
+
+SkinnedMesh import_mesh(const std::string& path, const aiMesh* m, const Skeleton& sk) {
+  SkinnedMesh mesh;
+  mesh.name = m->mName.C_Str();
+  const unsigned n = m->mNumVertices;
+  mesh.positions.resize(n);
+  mesh.normals.resize(n, Vec3::UnitY());
+  for (unsigned v = 0; v < n; ++v) {
+    mesh.positions[v] = to_vec(m->mVertices[v]);
+    if (m->mNormals) mesh.normals[v] = to_vec(m->mNormals[v]).normalized();
+  }
+  for (unsigned f = 0; f < m->mNumFaces; ++f) {
+    const aiFace& face = m->mFaces[f];
+    if (face.mNumIndices != 3) continue;  // points and lines left by the triangulation
+    for (int k = 0; k < 3; ++k) mesh.indices.push_back(face.mIndices[k]);
+  }
+
+  // Gather every influence, then keep the four largest per vertex and normalise them.
+  std::vector<std::vector<std::pair<float, std::uint16_t>>> influences(n);
+  for (unsigned b = 0; b < m->mNumBones; ++b) {
+    const aiBone* bone = m->mBones[b];
+    int joint = sk.find(bone->mName.C_Str());
+    if (joint < 0) fail(path, "bone '" + std::string(bone->mName.C_Str()) + "' of mesh '" + mesh.name + "' has no node");
+    mesh.bone_joint.push_back(static_cast<std::uint16_t>(joint));
+    mesh.inverse_bind.push_back(to_affine(bone->mOffsetMatrix));
+    for (unsigned k = 0; k < bone->mNumWeights; ++k) {
+      const aiVertexWeight& w = bone->mWeights[k];
+      if (w.mVertexId >= n) fail(path, "mesh '" + mesh.name + "' weights a vertex it does not have");
+      if (w.mWeight > kNegligibleWeight) influences[w.mVertexId].push_back({w.mWeight, static_cast<std::uint16_t>(b)});
+    }
+  }
+  mesh.bones.assign(n, {0, 0, 0, 0});
+  mesh.weights.assign(n, {0.0f, 0.0f, 0.0f, 0.0f});
+  std::size_t unweighted = 0;
+  for (unsigned v = 0; v < n; ++v) {
+    auto& list = influences[v];
+    if (list.empty()) {
+      ++unweighted;
+      continue;
+    }
+    // Largest first; equal weights by bone index, so the choice does not depend on file order.
+    std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
+    const std::size_t keep = std::min<std::size_t>(list.size(), kMaxInfluences);
+    float total = 0.0f;
+    for (std::size_t k = 0; k < keep; ++k) total += list[k].first;
+    for (std::size_t k = 0; k < keep; ++k) {
+      mesh.bones[v][k] = list[k].second;
+      mesh.weights[v][k] = list[k].first / total;
+    }
+  }
+  if (unweighted > 0) {
+    fail(path, "mesh '" + mesh.name + "' has " + std::to_string(unweighted) + " of " + std::to_string(n) +
+                   " vertices with no bone weight (every vertex of a skinned mesh must follow a bone)");
+  }
+  return mesh;
+}
+
+// Keys with their own times, converted to seconds. A key not later than the one before it
+// (files repeat the last key) is dropped so times strictly increase.
+template <class Key, class Value, class Convert>
+void import_keys(const Key* keys, unsigned count, double tps, std::vector<float>& times,
+                 std::vector<Value>& values, Convert convert) {
+  times.clear();
+  values.clear();
+  for (unsigned k = 0; k < count; ++k) {
+    float t = static_cast<float>(keys[k].mTime / tps);
+    if (!times.empty() && !(t > times.back())) continue;
+    times.push_back(t);
+    values.push_back(convert(keys[k].mValue));
+  }
+}
+
+Clip import_clip(const aiAnimation* a, std::size_t index, const Skeleton& sk) {
+  Clip clip;
+  clip.name = a->mName.length > 0 ? a->mName.C_Str() : "clip" + std::to_string(index);
+  const double tps = a->mTicksPerSecond > 0.0 ? a->mTicksPerSecond : kDefaultTicksPerSecond;
+  clip.ticks_per_second = static_cast<float>(tps);
+  clip.duration = static_cast<float>(a->mDuration / tps);
+  clip.tracks.resize(sk.size());
+  for (std::size_t j = 0; j < sk.size(); ++j) {
+    JointTrack& t = clip.tracks[j];
+    t.translation_times = {0.0f};
+    t.translations = {sk.rest_translation[j]};
+    t.rotation_times = {0.0f};
+    t.rotations = {sk.rest_rotation[j]};
+    t.scale_times = {0.0f};
+    t.scales = {sk.rest_scale[j]};
+  }
+  for (unsigned c = 0; c < a->mNumChannels; ++c) {
+    const aiNodeAnim* ch = a->mChannels[c];
+    int j = sk.find(ch->mNodeName.C_Str());
+    if (j < 0) continue;  // a mesh node or helper: not part of the skeleton
+    JointTrack& t = clip.tracks[static_cast<std::size_t>(j)];
+    if (ch->mNumPositionKeys > 0)
+      import_keys(ch->mPositionKeys, ch->mNumPositionKeys, tps, t.translation_times, t.translations, to_vec);
+    if (ch->mNumRotationKeys > 0)
+      import_keys(ch->mRotationKeys, ch->mNumRotationKeys, tps, t.rotation_times, t.rotations, to_quat);
+    if (ch->mNumScalingKeys > 0)
+      import_keys(ch->mScalingKeys, ch->mNumScalingKeys, tps, t.scale_times, t.scales, to_vec);
+  }
+  return clip;
+}
+
+}  // namespace
+
+std::shared_ptr<const Model> import_model(const std::string& path) {
+  {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a model file");
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) fail(path, std::string("cannot open it (") + std::strerror(errno) + ")");
+  }
+  Assimp::Importer importer;
+  // Four influences at most (LimitBoneWeights' default), triangles only, and a structural
+  // check so a damaged file is rejected by assimp rather than read half-way.
+  const unsigned flags = aiProcess_Triangulate | aiProcess_LimitBoneWeights | aiProcess_JoinIdenticalVertices |
+                         aiProcess_GenSmoothNormals | aiProcess_ValidateDataStructure;
+  const aiScene* scene = importer.ReadFile(path, flags);
+  if (!scene) fail(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
+  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
+    fail(path, "assimp read it only partly (the file is incomplete or damaged)");
+
+  std::unordered_set<std::string> bones;
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i)
+    for (unsigned b = 0; b < scene->mMeshes[i]->mNumBones; ++b) bones.insert(scene->mMeshes[i]->mBones[b]->mName.C_Str());
+  if (bones.empty()) {
+    fail(path, "has no skeleton: none of its " + std::to_string(scene->mNumMeshes) +
+                   " meshes has bones, so nothing can animate it");
+  }
+  if (scene->mNumAnimations == 0) fail(path, "has no animation clips (a character needs at least one)");
+
+  auto model = std::make_shared<Model>();
+  model->path = path;
+  std::unordered_map<const aiNode*, bool> memo;
+  has_bone(scene->mRootNode, bones, memo);
+  add_joints(scene->mRootNode, -1, bones, memo, model->skeleton);
+  if (model->skeleton.size() > 0xffff) fail(path, "has more joints than the engine indexes (65535)");
+
+  // Only meshes with bones are skinned; a mesh without bones belongs to no joint and is left out.
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
+    const aiMesh* m = scene->mMeshes[i];
+    if (m->mNumBones == 0) continue;
+    model->meshes.push_back(import_mesh(path, m, model->skeleton));
+  }
+  model->bind_min = Vec3::Constant(std::numeric_limits<float>::max());
+  model->bind_max = Vec3::Constant(-std::numeric_limits<float>::max());
+  for (const SkinnedMesh& m : model->meshes)
+    for (const Vec3& p : m.positions) {
+      model->bind_min = model->bind_min.cwiseMin(p);
+      model->bind_max = model->bind_max.cwiseMax(p);
+    }
+  if (model->vertex_count() == 0) fail(path, "its skinned meshes have no vertices");
+
+  for (unsigned i = 0; i < scene->mNumAnimations; ++i)
+    model->clips.push_back(import_clip(scene->mAnimations[i], i, model->skeleton));
+  return model;
+}
+
+}  // namespace ballpit

@@ -1,0 +1,18 @@
+// The contact solver alone: all substeps of one step (each integrates, warm-starts, solves,
+// moves and relaxes) over the contacts the narrowphase found when the world was prepared.
+// Repeated calls keep that contact list, which stays right for a resting pile: its contacts
+// persist from step to step; the solver recomputes every gap and normal from the positions.
+#include "profiling/bench_common.h"
+#include "systems/solver.h"
+
+namespace ballpit::profiling {
+namespace {
+
+[[maybe_unused]] const bool kSolver = register_system("solver", [](benchmark::State& state, World& world, std::size_t n) {
+  timed_loop(state, n, [&] { solve_contacts(world); });
+  state.counters["contacts"] = static_cast<double>(contact_count(world));
+  state.counters["substeps"] = world.solver.substeps;
+});
+
+}  // namespace
+}  // namespace ballpit::profiling

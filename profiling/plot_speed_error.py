@@ -1,0 +1,261 @@
+#!/usr/bin/python3
+"""Speed-against-error report: reads the JSON lines of profiling/speed_error (one per case and
+solver setting) and writes a CSV, a Pareto plot (cost against error, one panel and one front
+per case, plus all fronts on one normalised panel) and a markdown table that says, per case,
+which settings are on the Pareto front and whether the default is. Run by
+scripts/profile_speed_error.sh."""
+import argparse
+import csv
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from report_common import load_jsonl, machine_line, md_table  # noqa: E402
+
+# Cost is wall time, measured on a shared machine: two costs within this fraction are the same.
+COST_NOISE = 0.10
+# Errors within this fraction (or below ERROR_FLOOR) are the same error.
+ERROR_NOISE = 0.02
+ERROR_FLOOR = 1e-6
+
+CASE_ORDER = ["bounce", "cradle", "stack", "gas", "character"]
+SETTING_COLUMNS = ["substeps", "contact_hertz", "substep_rate_hz", "damping_ratio", "push_out_speed",
+                   "restitution_threshold", "dt"]
+# Per-case figures shown in the markdown (besides cost and error).
+DETAILS = {
+    "bounce": [("apex_m", "apex heights (m)")],
+    "cradle": [("delivered", "p_last / p0"), ("max_penetration_r", "max pen / r")],
+    "stack": [("drift_r", "drift / r"), ("max_penetration_r", "overlap / r"),
+              ("max_wall_penetration_r", "floor overlap / r")],
+    "gas": [("energy_drift", "KE drift"), ("max_abs_energy_drift", "worst |KE drift|"), ("escaped", "escaped")],
+    "character": [("balls_inside_colliders", "balls inside (worst step)"), ("max_ball_speed_mps", "top ball speed (m/s)"),
+                  ("max_penetration_r", "ball-ball pen / r"), ("escaped", "escaped")],
+    "pour": [("max_penetration_r", "max pen / r"), ("mean_penetration_r", "mean pen / r"),
+             ("kinetic_energy_j", "KE end (J)"), ("settle_s", "settle (s)"), ("escaped", "escaped")],
+}
+
+
+def details_for(case):
+    return DETAILS["pour"] if case.startswith("pour") else DETAILS.get(case, [])
+
+
+def same_error(a, b):
+    a, b = max(a, ERROR_FLOOR), max(b, ERROR_FLOOR)
+    return abs(a - b) <= ERROR_NOISE * max(a, b)
+
+
+def dominates(q, p):
+    """q is at least as good as p in cost and error (within noise) and clearly better in one.
+    Two settings that end in the same state hash computed the same thing: neither dominates."""
+    if q["state_hash"] == p["state_hash"]:
+        return False
+    cheaper = q["cost_ms_per_sim_s"] < p["cost_ms_per_sim_s"] * (1 - COST_NOISE)
+    not_dearer = q["cost_ms_per_sim_s"] <= p["cost_ms_per_sim_s"] * (1 + COST_NOISE)
+    better = q["error"] < p["error"] and not same_error(q["error"], p["error"])
+    not_worse = q["error"] <= p["error"] or same_error(q["error"], p["error"])
+    return (cheaper and not_worse) or (not_dearer and better)
+
+
+def neighbours(default, ps):
+    """Why the default sits where it does: its nearest front neighbours on either side."""
+    def equivalent(p):  # same error and a cost within noise: the default again, in effect
+        return (same_error(p["error"], default["error"]) and
+                abs(p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] - 1) <= COST_NOISE)
+
+    front = [p for p in ps if p["pareto"] and p["state_hash"] != default["state_hash"] and not equivalent(p)]
+    cheaper = [p for p in front if p["cost_ms_per_sim_s"] < default["cost_ms_per_sim_s"]]
+    dearer = [p for p in front if p["cost_ms_per_sim_s"] >= default["cost_ms_per_sim_s"]]
+    lines = []
+    d_err = max(default["error"], ERROR_FLOOR)
+    if cheaper:
+        q = max(cheaper, key=lambda p: p["cost_ms_per_sim_s"])
+        lines.append(f"the next cheaper setting on the front, {q['point']}, costs "
+                     f"{1 - q['cost_ms_per_sim_s'] / default['cost_ms_per_sim_s']:.0%} less and its error is "
+                     f"{max(q['error'], ERROR_FLOOR) / d_err:.3g}x the default's")
+    if dearer:
+        q = min(dearer, key=lambda p: p["cost_ms_per_sim_s"])
+        lines.append(f"the next dearer one, {q['point']}, costs "
+                     f"{q['cost_ms_per_sim_s'] / default['cost_ms_per_sim_s'] - 1:.0%} more for an error "
+                     f"{max(q['error'], ERROR_FLOOR) / d_err:.3g}x the default's")
+    return ("Around the default: " + "; ".join(lines) + ".\n") if lines else ""
+
+
+def fmt(v):
+    if v is None:
+        return ""
+    if isinstance(v, list):
+        return ", ".join(fmt(x) for x in v)
+    if isinstance(v, float):
+        if v == 0:
+            return "0"
+        if abs(v) >= 1000 or abs(v) < 1e-3:
+            return f"{v:.3g}"
+        return f"{v:.4g}"
+    return str(v)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("jsonl")
+    ap.add_argument("--csv", required=True)
+    ap.add_argument("--png", required=True)
+    ap.add_argument("--md", required=True)
+    a = ap.parse_args()
+    points = load_jsonl(a.jsonl)
+    cases = []
+    for p in points:
+        if p["case"] not in cases:
+            cases.append(p["case"])
+    cases.sort(key=lambda c: (CASE_ORDER.index(c) if c in CASE_ORDER else len(CASE_ORDER), c))
+
+    by_case = {c: [p for p in points if p["case"] == c] for c in cases}
+    for c, ps in by_case.items():
+        for p in ps:
+            p["pareto"] = not any(dominates(q, p) for q in ps if q is not p)
+            default = next((q for q in ps if q["point"] == "default"), None)
+            p["cost_vs_default"] = p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] if default else None
+            p["dominates_default"] = bool(default) and p is not default and dominates(p, default)
+
+    # CSV: every field of every line, in first-seen order.
+    fields = []
+    for p in points:
+        for k in p:
+            if k not in fields:
+                fields.append(k)
+    with open(a.csv, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        for p in points:
+            w.writerow({k: (";".join(map(str, v)) if isinstance(v, list) else v) for k, v in p.items()})
+
+    # Plot: one panel per case, then all fronts normalised by the default.
+    panels = len(cases) + 1
+    cols = 3
+    rows = math.ceil(panels / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 4.2 * rows))
+    axes = axes.flatten()
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    overlay = axes[len(cases)]
+    for i, c in enumerate(cases):
+        ax = axes[i]
+        ps = by_case[c]
+        color = colors[i % len(colors)]
+        ax.scatter([p["cost_ms_per_sim_s"] for p in ps], [max(p["error"], ERROR_FLOOR) for p in ps],
+                   s=14, color="0.6", zorder=2)
+        # Settings that computed the same state (same hash) are one point of the front: drawn
+        # once, at the cheapest run, labelled by the first of them (the default if it is one).
+        groups = {}
+        for p in sorted((p for p in ps if p["pareto"]), key=lambda p: (p["point"] != "default",
+                                                                         p["cost_ms_per_sim_s"])):
+            groups.setdefault(p["state_hash"], []).append(p)
+        front = []
+        for g in groups.values():
+            rep = dict(min(g, key=lambda p: p["cost_ms_per_sim_s"]))
+            rep["point"] = g[0]["point"] + (f" (+{len(g) - 1} same)" if len(g) > 1 else "")
+            front.append(rep)
+        front.sort(key=lambda p: p["cost_ms_per_sim_s"])
+        ax.plot([p["cost_ms_per_sim_s"] for p in front], [max(p["error"], ERROR_FLOOR) for p in front],
+                "o-", color=color, zorder=3, label="Pareto front")
+        labelled = []
+        for k, p in enumerate(front):
+            # Label a front point unless one already labelled sits on top of it (the table in
+            # the markdown names every point); alternate offsets for neighbours.
+            x, y = math.log10(p["cost_ms_per_sim_s"]), math.log10(max(p["error"], ERROR_FLOOR))
+            if any(abs(x - lx) < 0.04 and abs(y - ly) < 0.15 for lx, ly in labelled):
+                continue
+            labelled.append((x, y))
+            ax.annotate(p["point"], (p["cost_ms_per_sim_s"], max(p["error"], ERROR_FLOOR)), fontsize=6,
+                        xytext=(4, 4 if k % 2 == 0 else -9), textcoords="offset points")
+        default = next((p for p in ps if p["point"] == "default"), None)
+        if default:
+            ax.scatter([default["cost_ms_per_sim_s"]], [max(default["error"], ERROR_FLOOR)], marker="*", s=160,
+                       color="red", zorder=4, label="default")
+            normalised = [(p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"],
+                           max(p["error"], ERROR_FLOOR) / max(default["error"], ERROR_FLOOR)) for p in front]
+            overlay.plot([x for x, _ in normalised], [y for _, y in normalised], "o-", color=color, label=c)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(f"{c}: {ps[0]['error_metric']}", fontsize=8)
+        ax.set_xlabel("cost: wall ms per simulated s")
+        ax.set_ylabel("error")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    overlay.scatter([1], [1], marker="*", s=160, color="red", zorder=4, label="default")
+    overlay.set_xscale("log")
+    overlay.set_yscale("log")
+    overlay.set_title("all Pareto fronts, relative to each case's default", fontsize=8)
+    overlay.set_xlabel("cost / default cost")
+    overlay.set_ylabel("error / default error")
+    overlay.grid(True, which="both", alpha=0.3)
+    overlay.legend(fontsize=7)
+    for ax in axes[panels:]:
+        ax.axis("off")
+    fig.suptitle("Speed against error. " + machine_line(points), fontsize=8)
+    fig.tight_layout()
+    fig.savefig(a.png, dpi=100)
+
+    # Markdown.
+    out = ["# Speed against error\n",
+           f"Generated by `scripts/profile_speed_error.sh` from `{os.path.basename(a.jsonl)}`; every "
+           "number below comes from that file. Each row is one run of one case at one solver "
+           "setting; ms/step is the median step; the state hash reproduces it exactly (`build/profiling/speed_error --cases CASE "
+           "--points LABEL`). Cost is wall time per simulated second on the threads given "
+           "(small cases are dominated by per-step overhead, so compare costs within a case). "
+           f"A point is on the Pareto front when no other point of its case is at most {COST_NOISE:.0%} "
+           f"dearer and clearly more accurate (by more than {ERROR_NOISE:.0%}), or clearly cheaper and "
+           "no less accurate; settings that end in the same state hash as another computed the same "
+           "thing (the setting did not matter there) and never dominate each other. Bounce, cradle "
+           "and stack are run several times per point and the cheapest run is kept.\n",
+           machine_line(points) + "\n",
+           "![Pareto plot](speed_error.png)\n"]
+    default_on_front = {}
+    for c in cases:
+        ps = sorted(by_case[c], key=lambda p: p["cost_ms_per_sim_s"])
+        out.append(f"## {c}\n")
+        out.append(f"Error: {ps[0]['error_metric']}. Spheres: {ps[0]['spheres']:,}. "
+                   f"Threads: {ps[0].get('threads', '?')}.\n")
+        header = ["setting", "substeps", "hertz", "dt (s)", "ms/step", "cost (ms/sim s)", "cost / default",
+                  "error"] + [label for _, label in details_for(c)] + ["front", "state hash"]
+        rows = []
+        for p in ps:
+            rows.append([("**default**" if p["point"] == "default" else p["point"]), p["substeps"],
+                         fmt(p["contact_hertz"]), fmt(p["dt"]), fmt(p["ms_per_step"]), fmt(p["cost_ms_per_sim_s"]),
+                         fmt(p["cost_vs_default"]), fmt(p["error"])] +
+                        [fmt(p.get(k)) for k, _ in details_for(c)] +
+                        ["yes" if p["pareto"] else "", p["state_hash"]])
+        out.append(md_table(header, rows))
+        default = next((p for p in ps if p["point"] == "default"), None)
+        if default:
+            default_on_front[c] = default["pareto"]
+            beaters = [p["point"] for p in ps if p["dominates_default"]]
+            out.append(f"Default on the front: **{'yes' if default['pareto'] else 'no'}**" +
+                       (f"; dominated by: {', '.join(beaters)}" if beaters else "") + ".\n")
+            out.append(neighbours(default, ps))
+
+    out.append("## Summary: is the default on the Pareto front?\n")
+    out.append(md_table(["case", "default on front", "default error", "default cost (ms/sim s)",
+                         "settings that dominate the default"],
+                        [[c, "yes" if default_on_front.get(c) else "no",
+                          fmt(next(p["error"] for p in by_case[c] if p["point"] == "default")),
+                          fmt(next(p["cost_ms_per_sim_s"] for p in by_case[c] if p["point"] == "default")),
+                          ", ".join(p["point"] for p in by_case[c] if p["dominates_default"]) or "none"]
+                         for c in cases if c in default_on_front]))
+    # A setting that dominates the default in every case it was run on would be a better default.
+    labels = sorted({p["point"] for p in points if p["point"] != "default"})
+    better = []
+    for label in labels:
+        runs = [p for p in points if p["point"] == label]
+        if runs and all(p["dominates_default"] for p in runs):
+            better.append(f"{label} ({', '.join(p['case'] for p in runs)})")
+    out.append("\nSettings that dominate the default in every case they ran: " +
+               (", ".join(better) if better else "none") + ".\n")
+    with open(a.md, "w") as f:
+        f.write("\n".join(out))
+
+
+if __name__ == "__main__":
+    main()

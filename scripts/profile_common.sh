@@ -1,0 +1,18 @@
+# Shared by scripts/profile_*.sh (sourced, not run): where the tree, the build and the reports
+# are, and how to build only the targets a study needs.
+#   BUILD_DIR  build directory (default: <repo>/build, the README's)
+#   JOBS       parallel build jobs (default: nproc)
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${BUILD_DIR:-$ROOT/build}"
+REPORTS="$ROOT/profiling/reports"
+PYTHON=/usr/bin/python3  # Debian's python3 with python3-matplotlib
+mkdir -p "$REPORTS"
+
+build_targets() {
+  if [ ! -f "$BUILD/CMakeCache.txt" ]; then
+    cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  fi
+  cmake --build "$BUILD" -j"${JOBS:-$(nproc)}" --target "$@" >/dev/null
+}
+
+log() { echo "[$(basename "$0" .sh)] $*" >&2; }

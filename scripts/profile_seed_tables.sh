@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The original report's frame-rate tables as simulation cost per step: pour at n = 50..400 with
+# our grid, our naive narrowphase (the original's k = 1) and no collisions, extended to 1M; and
+# the character rows (n = 10..250) when the runner has --scene pit-character.
+# Writes profiling/reports/seed_tables.{jsonl,md}. Extra arguments go to seed_tables.
+set -euo pipefail
+source "$(dirname "$0")/profile_common.sh"
+build_targets seed_tables ballpit
+out="$REPORTS/seed_tables.jsonl"
+"$BUILD/profiling/seed_tables" "$@" >"$out.tmp"
+mv "$out.tmp" "$out"
+character="$REPORTS/seed_tables_character.jsonl"
+rm -f "$character"
+if "$BUILD/app/ballpit" run --scene pit-character --spheres 10 --steps 1 --no-table --no-progress >/dev/null 2>&1; then
+  : >"$character.tmp"
+  for n in 10 50 100 150 200 250; do
+    for mode in grid naive; do
+      flag=""
+      [ "$mode" = naive ] && flag="--naive"
+      log "pit-character n=$n $mode"
+      "$BUILD/app/ballpit" run --scene pit-character --spheres "$n" --steps 600 --threads 2 $flag --no-table --no-progress |
+        sed "s/^{/{\"mode\":\"$mode\",/" >>"$character.tmp"
+    done
+  done
+  mv "$character.tmp" "$character"
+else
+  log "the runner has no --scene pit-character yet: character rows left out"
+fi
+"$PYTHON" "$ROOT/profiling/make_seed_tables.py" "$out" --origin "$ROOT/profiling/origin_fps.csv" \
+  --character "$character" --md "$REPORTS/seed_tables.md"
+log "wrote $REPORTS/seed_tables.md"

@@ -1,0 +1,207 @@
+// The app's session: interpolation between steps (the previous position of every sphere, by
+// entity, though rows are re-sorted each step), pouring, reset, the collider kind switch, and
+// key presses steering the character. No OpenGL.
+#include <gtest/gtest.h>
+
+#include <unordered_map>
+
+#include "app/camera.h"
+#include "app/controls.h"
+#include "app/session.h"
+#include "engine/error.h"
+#include "engine/state_hash.h"
+#include "engine/world.h"
+
+using namespace ballpit;
+
+namespace {
+
+SessionOptions pour(std::size_t n) {
+  SessionOptions o;
+  o.scene = "pour";
+  o.spheres = n;
+  o.threads = 2;
+  return o;
+}
+
+SessionOptions play(std::size_t n) {
+  SessionOptions o;
+  o.scene = "play";
+  o.spheres = n;
+  o.threads = 2;
+  return o;
+}
+
+std::unordered_map<std::uint32_t, Vec3> positions_by_entity(const World& w) {
+  std::unordered_map<std::uint32_t, Vec3> out;
+  for (std::size_t i = 0; i < w.spheres.size(); ++i) out[w.spheres.entity_index()[i]] = w.spheres.position()[i];
+  return out;
+}
+
+constexpr double kStep = 1.0 / 60.0;  // (unit: s)
+
+}  // namespace
+
+TEST(Session, InterpolationStartsFromEverySpheresPositionBeforeTheStep) {
+  Session s(pour(2000));
+  for (int i = 0; i < 20; ++i) s.single_step();  // rows are re-sorted by the grid from here on
+  auto before = positions_by_entity(s.world());
+  // Half a step of real time twice: one step is taken, and the loop is half way to the next.
+  s.advance(0.75 * kStep);
+  ASSERT_EQ(s.advance(0.75 * kStep), 1);
+  SphereRenderState r = s.sphere_render_state();
+  EXPECT_NEAR(r.alpha, 0.5f, 1e-3f);
+  ASSERT_FALSE(r.previous_by_entity.empty());
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < r.position.size(); ++i) {
+    const Vec3& previous = r.previous_by_entity[r.entity[i]];
+    EXPECT_EQ(previous, before.at(r.entity[i])) << "row " << i;  // bit for bit: a copy, not a guess
+    if (previous != r.position[i]) ++moved;
+  }
+  EXPECT_GT(moved, r.position.size() / 2);  // the pour is falling: there is something to blend
+}
+
+TEST(Session, PausedSingleStepsAndResetsDrawTheLatestStateAsItIs) {
+  Session s(pour(500));
+  s.advance(kStep * 1.5);
+  EXPECT_LT(s.alpha(), 1.0f);
+  s.paused = true;
+  EXPECT_EQ(s.advance(1.0), 0);
+  EXPECT_EQ(s.alpha(), 1.0f);
+  s.paused = false;
+  s.single_step();
+  EXPECT_EQ(s.alpha(), 1.0f);
+  EXPECT_TRUE(s.sphere_render_state().previous_by_entity.empty());
+}
+
+TEST(Session, PouringAddsBallsAboveThePile) {
+  Session s(pour(1000));
+  for (int i = 0; i < 5; ++i) s.single_step();
+  float top = 0.0f;
+  for (const Vec3& p : s.world().spheres.position()) top = std::max(top, p.y());
+  const std::uint64_t version = s.sphere_render_state().version;
+  s.pour(700);
+  ASSERT_EQ(s.world().spheres.size(), 1700u);
+  EXPECT_NE(s.sphere_render_state().version, version);  // the renderer must re-upload
+  std::size_t above = 0;
+  for (const Vec3& p : s.world().spheres.position()) above += p.y() > top;
+  EXPECT_EQ(above, 700u);
+  s.single_step();  // and the new balls simulate
+  EXPECT_EQ(s.world().spheres.size(), 1700u);
+}
+
+TEST(Session, ResetRebuildsTheSceneButKeepsTheSolverSettingsTheUserChose) {
+  Session s(pour(800));
+  s.set_substeps(3);
+  s.set_restitution(0.8f);
+  for (int i = 0; i < 10; ++i) s.single_step();
+  s.pour(100);
+  s.reset();
+  EXPECT_EQ(s.world().spheres.size(), 800u);
+  EXPECT_EQ(s.world().solver.substeps, 3);
+  EXPECT_FLOAT_EQ(s.world().materials.front().restitution, 0.8f);
+  EXPECT_FLOAT_EQ(s.world().pit.material.restitution, 0.8f);
+  // The same balls in the same places as a fresh session's.
+  Session fresh(pour(800));
+  fresh.set_substeps(3);
+  fresh.set_restitution(0.8f);
+  EXPECT_EQ(state_hash(s.world()), state_hash(fresh.world()));
+}
+
+TEST(Session, OutOfRangeSettingsAreRefusedWithTheirName) {
+  Session s(pour(100));
+  EXPECT_THROW(s.set_restitution(1.5f), Error);
+  EXPECT_THROW(s.set_friction(-0.1f), Error);
+  EXPECT_THROW(s.set_substeps(0), Error);
+  EXPECT_THROW(Session(SessionOptions{.scene = "swamp"}), Error);
+}
+
+TEST(Controls, KeysMapToControllerInput) {
+  EXPECT_EQ(controller_input({.forward = true}).forward, 1.0f);
+  EXPECT_EQ(controller_input({.back = true}).forward, -1.0f);
+  EXPECT_EQ(controller_input({.forward = true, .back = true}).forward, 0.0f);
+  EXPECT_EQ(controller_input({.left = true}).turn, 1.0f);  // +1 turns left
+  EXPECT_EQ(controller_input({.right = true}).turn, -1.0f);
+  EXPECT_TRUE(controller_input({.forward = true, .run = true}).run);
+}
+
+class PlaySession : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { session_ = new Session(play(3000)); }
+  static void TearDownTestSuite() {
+    delete session_;
+    session_ = nullptr;
+  }
+  static Session* session_;
+};
+Session* PlaySession::session_ = nullptr;
+
+TEST_F(PlaySession, TwoSecondsOfTheForwardKeyWalkTheCharacterForwardOnScreen) {
+  Session& s = *session_;
+  s.reset();
+  ASSERT_TRUE(s.has_character());
+  OrbitCamera camera;
+  camera.frame_pit(s.world().pit.half_width, s.fill_height());
+  const Viewport view{1280, 720};
+  const CharacterMotion& m = s.world().characters.motion(0);
+  const Vec3 start = m.current.position;
+  const float heading = m.current.heading;
+  const Vec2 start_px = camera.project(start, view).pixel;
+
+  for (int frame = 0; frame < 120; ++frame) {  // 2 s of 60 Hz frames with W held
+    s.set_character_input(controller_input({.forward = true}));
+    s.single_step();
+  }
+  const Vec3 moved = m.current.position - start;
+  // The model faces +z at heading 0; heading turns it left (counter-clockwise from above).
+  const Vec3 forward(std::sin(heading), 0.0f, std::cos(heading));
+  const float walk = s.world().characters.setup(0).controller.walk_speed;
+  // 2 s at walk speed, less the ramp up at the controller's acceleration (a few cm).
+  EXPECT_GT(moved.dot(forward), 0.8f * walk * 2.0f);
+  EXPECT_LT(moved.dot(forward), 1.01f * walk * 2.0f);
+  EXPECT_LT((moved - moved.dot(forward) * forward).norm(), 0.01f);  // straight, no drift
+  const Vec2 end_px = camera.project(m.current.position, view).pixel;
+  // The camera frames a ~7.7 m pit on 720 rows: 0.8 m is tens of pixels.
+  EXPECT_GT((end_px - start_px).norm(), 10.0f);
+}
+
+TEST_F(PlaySession, ShiftMakesTheSameKeysRun) {
+  Session& s = *session_;
+  auto distance = [&](bool run) {
+    s.reset();
+    const Vec3 start = s.world().characters.motion(0).current.position;
+    for (int frame = 0; frame < 60; ++frame) {
+      s.set_character_input(controller_input({.forward = true, .run = run}));
+      s.single_step();
+    }
+    return (s.world().characters.motion(0).current.position - start).norm();
+  };
+  const float walked = distance(false);
+  const float ran = distance(true);
+  EXPECT_GT(ran, 2.0f * walked);
+}
+
+TEST_F(PlaySession, SwitchingColliderKindKeepsTheCharacterWhereItStands) {
+  Session& s = *session_;
+  s.reset();
+  for (int frame = 0; frame < 30; ++frame) {
+    s.set_character_input(controller_input({.forward = true, .left = true}));
+    s.single_step();
+  }
+  const RootState before = s.world().characters.motion(0).current;
+  s.set_collider_kind(ColliderKind::Spheres);
+  const ColliderTable& c = s.world().colliders;
+  ASSERT_GT(c.size(), 0u);
+  for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c.a()[i], c.b()[i]) << "collider " << i << " is not a sphere";
+  const RootState after = s.world().characters.motion(0).current;
+  // Same spot and heading; the height follows the new colliders' reach below the root.
+  EXPECT_EQ(after.position.x(), before.position.x());
+  EXPECT_EQ(after.position.z(), before.position.z());
+  EXPECT_EQ(after.heading, before.heading);
+  EXPECT_GT(after.position.y() + s.world().characters.setup(0).lowest_collider, 0.0f);  // clear of the floor
+  s.single_step();  // and the new colliders simulate
+  s.set_collider_kind(ColliderKind::Capsules);
+  std::size_t capsules = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) capsules += c.a()[i] != c.b()[i];
+  EXPECT_GT(capsules, 0u);
+}

@@ -1,0 +1,207 @@
+// Kinematic pushing: joint colliders have infinite mass; a struck ball leaves with
+// v' = v + (1 + e)((v_body - v) . n) n; sleeping balls wake; and no ball is left inside a
+// collider after a step, even in the pit-character scene of shared/SCENES.md at 10,000 balls,
+// with the run clip and fast turns.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "engine/metrics.h"
+#include "engine/state_hash.h"
+#include "systems/joint_colliders.h"
+#include "systems/pit_character_scene.h"
+#include "tests/character_fixture.h"
+#include "tests/tiny_world.h"
+
+namespace ballpit {
+namespace {
+
+using test::add_ball;
+using test::make_pit;
+using test::Sim;
+
+// A capsule moved by the test: each step the row holds the pose at the step's start and the
+// velocity that carries it to the pose at the end, as the joint-collider system writes it.
+struct MovingCapsule {
+  Vec3 a, b, velocity;
+  std::uint32_t row = 0;
+  void add(World& w, float radius) {
+    ColliderDesc d;
+    d.shape = ColliderShape::Capsule;
+    d.a = a;
+    d.b = b;
+    d.radius = radius;
+    row = w.colliders.add(d);
+  }
+  void pose(World& w) { w.colliders.set_pose(row, a, b, velocity, velocity); }
+  void advance(float dt) {
+    a += velocity * dt;
+    b += velocity * dt;
+  }
+};
+
+// Steps with the capsule posed before each step and advanced after it; returns the deepest
+// ball inside a collider after any step (fraction of r).
+double sweep(Sim& sim, MovingCapsule& cap, int steps) {
+  double deepest = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    cap.pose(sim.world);
+    sim.step();
+    deepest = std::max(deepest, measure_collider_overlap(sim.world).max_depth_r);
+    cap.advance(sim.world.step());
+  }
+  return deepest;
+}
+
+TEST(KinematicContact, AStruckBallLeavesWithTheRestitutionFormula) {
+  // A ball at rest, no gravity, hit head-on by a capsule at 3 m/s: v' = (1 + e) v_body n.
+  // e is the pair's restitution (the larger of ball and collider material, as Box2D combines).
+  for (float e : {1.0f, 0.5f}) {
+    Sim sim;
+    make_pit(sim.world, 5.0f, e, 0.0f);
+    sim.world.set_gravity(Vec3::Zero());
+    sim.world.solver.restitution_threshold = 0.0f;
+    Entity ball = add_ball(sim.world, Vec3(0.0f, 1.0f, 0.0f));
+    MovingCapsule cap{Vec3(-0.3f, 0.9f, 0.0f), Vec3(-0.3f, 1.1f, 0.0f), Vec3(3.0f, 0.0f, 0.0f)};
+    cap.add(sim.world, 0.05f);
+    sim.start();
+    sweep(sim, cap, 12);
+    const Vec3 v = sim.velocity(ball);
+    // The impact is resolved within its substep, and the ball then outruns the capsule: only
+    // float rounding of the impulse separates it from the formula (1e-4 relative).
+    EXPECT_NEAR(v.x(), (1.0f + e) * 3.0f, 1e-3f) << "e = " << e;
+    EXPECT_NEAR(v.y(), 0.0f, 1e-4f);
+    EXPECT_NEAR(v.z(), 0.0f, 1e-4f);
+  }
+}
+
+TEST(KinematicContact, AFastCapsuleLeavesNoBallInsideAfterAnyStep) {
+  // An upright capsule moving 12 m/s (5 ball radii a step) sweeps through a floating block of
+  // 5 x 5 x 3 touching balls (no gravity): it ploughs into the block, every ball it meets is
+  // pushed into the next, and none is left inside it after any step.
+  Sim sim;
+  make_pit(sim.world, 2.0f, 0.5f, 0.5f);
+  sim.world.set_gravity(Vec3::Zero());
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 5; ++k) add_ball(sim.world, Vec3(-0.18f + 0.081f * i, 0.9f + 0.081f * j, -0.18f + 0.081f * k));
+  MovingCapsule cap{Vec3(-1.0f, 0.7f, 0.0f), Vec3(-1.0f, 1.3f, 0.0f), Vec3(12.0f, 0.0f, 0.0f)};
+  cap.add(sim.world, 0.06f);
+  sim.start(2);
+  const double deepest = sweep(sim, cap, 12);
+  EXPECT_LE(deepest, kInsideDepthFraction);
+  const Metrics m = measure(sim.world);
+  EXPECT_EQ(m.escaped, 0u);
+  EXPECT_GT(m.max_speed_mps, 6.0);  // it hit them: the first struck leave near (1 + e) 12 m/s
+}
+
+TEST(KinematicContact, ASleepingBallWakesAndIsPushedNotPierced) {
+  Sim sim;
+  make_pit(sim.world, 2.0f, 0.5f, 0.5f);
+  sim.world.solver.sleeping = true;
+  Entity ball = add_ball(sim.world, Vec3(0.0f, 0.04f, 0.0f));
+  sim.start();
+  sim.step(60);  // settles and falls asleep on the floor
+  ASSERT_TRUE(sim.world.spheres.asleep()[sim.world.spheres.row(ball)]);
+  MovingCapsule cap{Vec3(-0.5f, 0.04f, -0.2f), Vec3(-0.5f, 0.04f, 0.2f), Vec3(2.0f, 0.0f, 0.0f)};
+  cap.add(sim.world, 0.05f);
+  const double deepest = sweep(sim, cap, 30);
+  EXPECT_FALSE(sim.world.spheres.asleep()[sim.world.spheres.row(ball)]);
+  EXPECT_GT(sim.position(ball).x(), 0.3f);
+  EXPECT_LE(deepest, kInsideDepthFraction);
+}
+
+// ---- the pit-character scene -------------------------------------------------------------
+
+struct PitRun {
+  double deepest_r = 0.0;        // deepest ball inside a collider after any step (fraction of r)
+  std::size_t most_inside = 0;   // most balls deeper than 1% r after one step
+  std::size_t escaped = 0;       // most balls outside the pit after one step
+  double fastest_ball = 0.0;     // (unit: m/s)
+  double fastest_collider = 0.0; // fastest collider end over the run (unit: m/s)
+  double highest_collider = 0.0; // highest collider surface over the run (unit: m)
+  double settled_speed = 0.0;    // fastest ball when the path starts (unit: m/s)
+  std::uint64_t hash = 0;
+};
+
+PitRun run_pit_character(std::size_t balls, int settle_steps, int path_steps, int threads) {
+  omp_set_num_threads(threads);
+  World world;
+  PitCharacterScene scene;
+  scene.pour.spheres = balls;
+  scene.settle_steps = settle_steps;
+  const Entity character = scene.build(world, test::wuson());
+  Scheduler scheduler(threads);
+  add_character_systems(scheduler, world);
+  add_physics_systems(scheduler, world);
+  scene.settle(world, scheduler);
+  PitRun out;
+  out.settled_speed = measure(world).max_speed_mps;
+  scene.start_path(world, character);
+  FixedStepLoop loop(world, scheduler);
+  const float dt = world.step();
+  for (int s = 0; s < path_steps; ++s) {
+    loop.step();
+    const ColliderOverlap o = measure_collider_overlap(world);
+    out.deepest_r = std::max(out.deepest_r, o.max_depth_r);
+    out.most_inside = std::max(out.most_inside, o.inside);
+    const ColliderTable& c = world.colliders;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      out.fastest_collider = std::max({out.fastest_collider, static_cast<double>(c.velocity_a()[k].norm()),
+                                       static_cast<double>(c.velocity_b()[k].norm())});
+      const float top = std::max(c.a()[k].y() + c.velocity_a()[k].y() * dt, c.b()[k].y() + c.velocity_b()[k].y() * dt);
+      out.highest_collider = std::max(out.highest_collider, static_cast<double>(top + c.radius()[k]));
+    }
+    double fastest = 0.0;
+    std::size_t escaped = 0;
+    auto x = world.spheres.position();
+    auto v = world.spheres.velocity();
+    auto r = world.spheres.radius();
+    for (std::size_t i = 0; i < world.spheres.size(); ++i) {
+      fastest = std::max(fastest, static_cast<double>(v[i].norm()));
+      if (!world.pit.inside(x[i], r[i])) ++escaped;
+    }
+    out.fastest_ball = std::max(out.fastest_ball, fastest);
+    out.escaped = std::max(out.escaped, escaped);
+  }
+  out.hash = state_hash(world);
+  return out;
+}
+
+TEST(PitCharacter, TenThousandBallsArePushedAsideAndNoneIsLeftInsideOrEscapes) {
+  // shared/SCENES.md's pit-character at 10,000 balls: settled (SCENES.md calls the pour
+  // settled from its step 300), then the full 10 s path: walk, walk turning left (90 deg/s),
+  // run, idle.
+  const PitRun run = run_pit_character(10000, PitCharacterScene{}.settle_steps, 600, 2);
+  const float e = 0.5f;       // pair restitution of ball and collider (both materials 0.5)
+  const float g = 9.81f;      // (unit: m/s^2)
+  const float push = 1.0f;    // SolverSettings::push_out_speed: overlapping balls part this fast
+  // Fastest-ball bound. One strike by an infinite mass moving at v_c sends a ball off at most at
+  // (1 + e) v_c; soft contacts may add the push-out speed; from at most the top of the
+  // character it can then gain only what falling gives: v^2 <= ((1 + e) v_c + push)^2 + 2 g h.
+  const double strike = (1.0 + e) * run.fastest_collider + push;
+  const double bound = std::sqrt(strike * strike + 2.0 * g * run.highest_collider);
+  std::printf("[ pit ] settled at %.4f m/s; deepest inside a collider %.2e r, most balls inside %zu, escaped %zu\n",
+              run.settled_speed, run.deepest_r, run.most_inside, run.escaped);
+  std::printf("[ pit ] fastest collider %.2f m/s, top %.2f m; fastest ball %.2f m/s (bound %.2f m/s)\n",
+              run.fastest_collider, run.highest_collider, run.fastest_ball, bound);
+  EXPECT_LT(run.settled_speed, 0.05);  // settled: nothing faster than 5 cm/s when the path starts
+  EXPECT_LE(run.deepest_r, kInsideDepthFraction);
+  EXPECT_EQ(run.most_inside, 0u);
+  EXPECT_EQ(run.escaped, 0u);
+  EXPECT_GT(run.fastest_collider, 4.0);  // the run clip and the turn did swing fast limbs
+  EXPECT_LT(run.fastest_ball, bound);
+}
+
+TEST(PitCharacter, TheSameStateForOneAndTwoThreads) {
+  // Determinism with a character: 2,000 balls, a short settle, then walk and turn.
+  const std::uint64_t one = run_pit_character(2000, 60, 150, 1).hash;
+  const std::uint64_t two = run_pit_character(2000, 60, 150, 2).hash;
+  EXPECT_EQ(hash_hex(one), hash_hex(two));
+}
+
+}  // namespace
+}  // namespace ballpit

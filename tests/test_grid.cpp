@@ -1,0 +1,91 @@
+// The counting-sort grid: rows come out sorted by cell, stably, the same for any thread count,
+// with cell ranges that hold exactly their spheres and memory bounded by N, not the pit.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <random>
+
+#include "engine/spatial_grid.h"
+#include "systems/grid.h"
+
+using namespace ballpit;
+
+namespace {
+
+struct Cloud {
+  std::vector<Vec3> x;
+  std::vector<float> r;
+};
+
+Cloud random_cloud(std::size_t n, float extent, float height, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-extent, extent), y(0.0f, height), rad(0.01f, 0.05f);
+  Cloud c;
+  for (std::size_t i = 0; i < n; ++i) {
+    c.x.emplace_back(u(rng), y(rng), u(rng));
+    c.r.push_back(rad(rng));
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST(Grid, RowsAreSortedStablyByCellAndCellRangesHoldTheirSpheres) {
+  Cloud c = random_cloud(5000, 1.0f, 1.0f, 1);
+  SpatialGrid g;
+  GridScratch scratch;
+  build_grid(g, c.x, c.r, scratch);
+  ASSERT_EQ(g.new_to_old.size(), c.x.size());
+  for (std::size_t row = 0; row < c.x.size(); ++row) {
+    const Vec3& p = c.x[g.new_to_old[row]];
+    std::uint32_t key = g.key(g.clamp_x(p.x()), g.clamp_y(p.y()), g.clamp_z(p.z()));
+    ASSERT_EQ(g.cell_of_row[row], key);
+    ASSERT_GE(row, g.cell_start[key]);
+    ASSERT_LT(row, g.cell_start[key + 1]);
+    if (row == 0) continue;
+    ASSERT_LE(g.cell_of_row[row - 1], key);
+    if (g.cell_of_row[row - 1] == key) {
+      ASSERT_LT(g.new_to_old[row - 1], g.new_to_old[row]);  // stable within a cell
+    }
+  }
+}
+
+TEST(Grid, CellFitsTheLargestSphereAndItsMargin) {
+  Cloud c = random_cloud(1000, 1.0f, 1.0f, 2);
+  c.r[17] = 0.3f;  // one big sphere sets the cell for all
+  SpatialGrid g;
+  GridScratch scratch;
+  build_grid(g, c.x, c.r, scratch);
+  EXPECT_FLOAT_EQ(g.max_radius, 0.3f);
+  EXPECT_GE(g.cell_size, 2.0f * 0.3f);
+}
+
+TEST(Grid, SameOrderForOneAndTwoThreads) {
+  Cloud c = random_cloud(20000, 2.0f, 1.0f, 3);
+  SpatialGrid one, two;
+  GridScratch s1, s2;
+  omp_set_num_threads(1);
+  build_grid(one, c.x, c.r, s1);
+  omp_set_num_threads(2);
+  build_grid(two, c.x, c.r, s2);
+  EXPECT_EQ(one.new_to_old, two.new_to_old);
+}
+
+TEST(Grid, MemoryIsBoundedBySphereCountNotByTheHeightTheyReach) {
+  // A few spheres flung 20 m up must not make the grid as tall as the pit.
+  Cloud c = random_cloud(1000, 0.5f, 0.5f, 4);
+  c.x[0].y() = 20.0f;
+  c.x[1].y() = 19.0f;
+  SpatialGrid g;
+  GridScratch scratch;
+  build_grid(g, c.x, c.r, scratch);
+  EXPECT_LE(g.cell_count(), std::max<std::size_t>(kCellsPerSphere * c.x.size(), 64));
+  // Clamping keeps them findable: both land in the top row of cells.
+  std::size_t row0 = 0, row1 = 0;
+  for (std::size_t r = 0; r < c.x.size(); ++r) {
+    if (g.new_to_old[r] == 0) row0 = r;
+    if (g.new_to_old[r] == 1) row1 = r;
+  }
+  EXPECT_EQ(static_cast<int>(g.cell_of_row[row0] % g.ny), g.ny - 1);
+  EXPECT_EQ(static_cast<int>(g.cell_of_row[row1] % g.ny), g.ny - 1);
+}

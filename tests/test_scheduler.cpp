@@ -1,0 +1,129 @@
+// The scheduler's contract: conflicting systems run in registration order, independent ones
+// may run at once, errors reach the caller, and (debug builds) undeclared access is caught.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "engine/error.h"
+#include "engine/scheduler.h"
+#include "engine/world.h"
+
+using namespace ballpit;
+
+namespace {
+
+class FnSystem : public System {
+ public:
+  FnSystem(std::string name, Access access, std::function<void(World&)> fn)
+      : name_(std::move(name)), access_(access), fn_(std::move(fn)) {}
+  std::string_view name() const override { return name_; }
+  Access access() const override { return access_; }
+  void run(World& w) override { fn_(w); }
+
+ private:
+  std::string name_;
+  Access access_;
+  std::function<void(World&)> fn_;
+};
+
+Access reads(ColumnSet r) { return {r, {}}; }
+Access writes(ColumnSet w) { return {{}, w}; }
+
+}  // namespace
+
+TEST(Scheduler, ConflictingSystemsRunInRegistrationOrder) {
+  World world;
+  Scheduler s(2);
+  std::mutex m;
+  std::vector<std::string> order;
+  auto log = [&](const char* n) {
+    return [&, n](World&) {
+      std::lock_guard lock(m);
+      order.push_back(n);
+    };
+  };
+  s.add(std::make_unique<FnSystem>("write_v", writes({ColumnId::SphereVelocity}), log("write_v")));
+  s.add(std::make_unique<FnSystem>("read_v_write_x",
+                                   Access{{ColumnId::SphereVelocity}, {ColumnId::SpherePosition}}, log("read_v_write_x")));
+  s.add(std::make_unique<FnSystem>("read_x", reads({ColumnId::SpherePosition}), log("read_x")));
+  for (int frame = 0; frame < 50; ++frame) {
+    order.clear();
+    s.run_frame(world);
+    ASSERT_EQ(order, (std::vector<std::string>{"write_v", "read_v_write_x", "read_x"}));
+  }
+  EXPECT_EQ(s.predecessors(2), (std::vector<std::size_t>{1}));  // read_x waits only for the writer of x
+}
+
+TEST(Scheduler, ReadersOfTheSameColumnDoNotWaitForEachOther) {
+  Scheduler s(2);
+  s.add(std::make_unique<FnSystem>("a", reads({ColumnId::SpherePosition}), [](World&) {}));
+  s.add(std::make_unique<FnSystem>("b", reads({ColumnId::SpherePosition}), [](World&) {}));
+  EXPECT_TRUE(s.predecessors(1).empty());
+}
+
+TEST(Scheduler, IndependentSystemsOverlapInTime) {
+  World world;
+  Scheduler s(2);
+  // Each system waits (bounded) for the other to start: they can only both see 2 if they
+  // run at the same time.
+  std::atomic<int> started{0};
+  std::atomic<int> saw_both{0};
+  auto rendezvous = [&](World&) {
+    ++started;
+    auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (started.load() < 2 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    if (started.load() >= 2) ++saw_both;
+  };
+  s.add(std::make_unique<FnSystem>("a", writes({ColumnId::SpherePosition}), rendezvous));
+  s.add(std::make_unique<FnSystem>("b", writes({ColumnId::SphereColor}), rendezvous));
+  s.run_frame(world);
+  EXPECT_EQ(saw_both.load(), 2);
+}
+
+TEST(Scheduler, AnExceptionInASystemReachesTheCallerAndLaterSystemsDoNotRun) {
+  World world;
+  Scheduler s(2);
+  bool later_ran = false;
+  s.add(std::make_unique<FnSystem>("fails", writes({ColumnId::SpherePosition}),
+                                   [](World&) { throw Error("boom in fails"); }));
+  s.add(std::make_unique<FnSystem>("after", reads({ColumnId::SpherePosition}), [&](World&) { later_ran = true; }));
+  try {
+    s.run_frame(world);
+    FAIL() << "expected the system's error";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "boom in fails");
+  }
+  EXPECT_FALSE(later_ran);
+  // The scheduler is usable again after a failed frame.
+  Scheduler ok(2);
+  ok.add(std::make_unique<FnSystem>("fine", reads({ColumnId::SpherePosition}), [](World&) {}));
+  EXPECT_NO_THROW(ok.run_frame(world));
+}
+
+TEST(Scheduler, TimesEverySystemRun) {
+  World world;
+  Scheduler s(1);
+  s.add(std::make_unique<FnSystem>("sleepy", writes({ColumnId::SpherePosition}),
+                                   [](World&) { std::this_thread::sleep_for(std::chrono::milliseconds(2)); }));
+  for (int i = 0; i < 5; ++i) s.run_frame(world);
+  auto stats = s.profiler().stats();
+  ASSERT_EQ(stats.size(), 1u);
+  EXPECT_EQ(stats[0].name, "sleepy");
+  EXPECT_EQ(stats[0].frames, 5u);
+  EXPECT_GE(stats[0].median_ms, 2.0);  // sleep_for sleeps at least this long
+}
+
+#ifndef NDEBUG
+TEST(Scheduler, UndeclaredColumnAccessIsCaughtInDebugBuilds) {
+  World world;
+  Scheduler s(1);
+  s.add(std::make_unique<FnSystem>("sneaky", reads({ColumnId::SpherePosition}),
+                                   [](World& w) { (void)w.spheres.mut_velocity(); }));
+  EXPECT_THROW(s.run_frame(world), Error);
+}
+#endif

@@ -1,0 +1,302 @@
+// Snapshots resume a run bit-identically and refuse every damaged file by name; the NaN guard
+// names the entity and the system where a non-finite value first appears.
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <csignal>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "engine/error.h"
+#include "engine/pour_scene.h"
+#include "engine/snapshot.h"
+#include "engine/state_hash.h"
+#include "engine/system.h"
+#include "systems/nan_guard.h"
+#include "tiny_world.h"
+
+using namespace ballpit;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh directory per test under the system temp dir, removed afterwards.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() /
+           ("ballpit_snapshot_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+// The pour scene with some spheres removed (so the registry has a free list) and, optionally,
+// sleeping on (so sleep state and wake-ups matter).
+void build_pour(test::Sim& s, bool sleeping) {
+  PourScene scene;
+  scene.spheres = 2000;
+  scene.build(s.world);
+  s.world.solver.sleeping = sleeping;
+  for (std::uint32_t index : {7u, 500u, 1999u, 3u}) s.world.remove_sphere({index, 0});
+  s.start(2);
+}
+
+std::uint64_t resume_hash(bool sleeping, const std::string& path, int first, int second) {
+  test::Sim a;
+  build_pour(a, sleeping);
+  a.step(first);
+  save_snapshot(a.world, path);
+  test::Sim b;
+  load_snapshot(b.world, path);
+  b.start(2);
+  b.step(second);
+  return state_hash(b.world);
+}
+
+std::uint64_t straight_hash(bool sleeping, int steps) {
+  test::Sim a;
+  build_pour(a, sleeping);
+  a.step(steps);
+  return state_hash(a.world);
+}
+
+void expect_refused(const std::string& path, const std::string& what) {
+  World w;
+  try {
+    load_snapshot(w, path);
+    ADD_FAILURE() << "loading " << path << " should fail with '" << what << "'";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find(what), std::string::npos) << message;
+  }
+  EXPECT_EQ(w.spheres.size(), 0u) << "a refused snapshot must leave the world untouched";
+}
+
+}  // namespace
+
+TEST(Snapshot, ResumedPourReachesTheSameStateHashAsTheUninterruptedRun) {
+  omp_set_num_threads(2);
+  TempDir dir;
+  // 60 steps in, the pour is mid-flight: thousands of warm-started contacts and moving rows.
+  EXPECT_EQ(hash_hex(resume_hash(false, dir.file("pour.snap"), 60, 60)), hash_hex(straight_hash(false, 120)));
+}
+
+TEST(Snapshot, ResumedPourWithSleepingReachesTheSameStateHash) {
+  omp_set_num_threads(2);
+  TempDir dir;
+  // 150 steps: the first sleepers exist (sleep_time 0.5 s = 30 steps after coming to rest).
+  EXPECT_EQ(hash_hex(resume_hash(true, dir.file("pour.snap"), 150, 60)), hash_hex(straight_hash(true, 210)));
+}
+
+TEST(Snapshot, WithoutTheWarmStartCacheTheResumeWouldDiverge) {
+  // The resume tests above can fail: dropping one piece of state (the warm-start impulses)
+  // changes the hash after a single step.
+  omp_set_num_threads(2);
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, false);
+  a.step(60);
+  save_snapshot(a.world, dir.file("pour.snap"));
+  a.step(1);
+  test::Sim b;
+  load_snapshot(b.world, dir.file("pour.snap"));
+  ASSERT_FALSE(b.world.contacts.warm.empty());
+  b.world.contacts.warm_begin.clear();
+  b.world.contacts.warm.clear();
+  b.start(2);
+  b.step(1);
+  EXPECT_NE(state_hash(a.world), state_hash(b.world));
+}
+
+TEST(Snapshot, SaveLoadSaveGivesTheSameBytesAndTheSameNextEntity) {
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, true);
+  a.step(5);
+  save_snapshot(a.world, dir.file("one.snap"));
+  World b;
+  load_snapshot(b, dir.file("one.snap"));
+  save_snapshot(b, dir.file("two.snap"));
+  EXPECT_EQ(read_bytes(dir.file("one.snap")), read_bytes(dir.file("two.snap")));
+  // The registry's free list came back in order: both worlds reuse the same slot next.
+  EXPECT_EQ(a.world.entities.create(), b.entities.create());
+  EXPECT_EQ(state_hash(a.world), state_hash(b));
+}
+
+TEST(Snapshot, TruncatedAtEveryTenthOfItsLengthIsRefused) {
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, false);
+  a.step(3);
+  save_snapshot(a.world, dir.file("good.snap"));
+  const std::string bytes = read_bytes(dir.file("good.snap"));
+  for (int tenth = 0; tenth < 10; ++tenth) {
+    const std::string path = dir.file("cut" + std::to_string(tenth) + ".snap");
+    write_bytes(path, bytes.substr(0, bytes.size() * tenth / 10));
+    // An empty file has no magic either; any other cut keeps the header and loses payload.
+    expect_refused(path, tenth == 0 ? "not a ballpit snapshot" : "truncated");
+  }
+}
+
+TEST(Snapshot, OneFlippedByteIsRefused) {
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, false);
+  a.step(3);
+  save_snapshot(a.world, dir.file("good.snap"));
+  const std::string bytes = read_bytes(dir.file("good.snap"));
+
+  std::string payload_flip = bytes;
+  payload_flip[bytes.size() / 2] = static_cast<char>(payload_flip[bytes.size() / 2] ^ 0x10);
+  write_bytes(dir.file("payload.snap"), payload_flip);
+  expect_refused(dir.file("payload.snap"), "corrupted");
+
+  std::string magic_flip = bytes;
+  magic_flip[0] = 'X';
+  write_bytes(dir.file("foreign.snap"), magic_flip);
+  expect_refused(dir.file("foreign.snap"), "not a ballpit snapshot");
+
+  std::string newer = bytes;
+  newer[8] = static_cast<char>(newer[8] + 1);  // version, little-endian u32 after the magic
+  write_bytes(dir.file("newer.snap"), newer);
+  expect_refused(dir.file("newer.snap"), "newer than this build reads");
+
+  expect_refused(dir.file("missing.snap"), "cannot open");
+}
+
+TEST(Snapshot, AFailedSaveLeavesThePreviousFileIntact) {
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, false);
+  save_snapshot(a.world, dir.file("pit.snap"));
+  const std::string before = read_bytes(dir.file("pit.snap"));
+  a.step(2);
+
+  // A crash mid-write, simulated by a file-size limit that stops the write partway (root
+  // ignores directory permissions, a size limit it does not). SIGXFSZ would kill the process.
+  auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old_limit{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  rlimit small = old_limit;
+  small.rlim_cur = 4096;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string message;
+  try {
+    save_snapshot(a.world, dir.file("pit.snap"));
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+
+  EXPECT_NE(message.find("the previous file is untouched"), std::string::npos) << message;
+  EXPECT_EQ(read_bytes(dir.file("pit.snap")), before);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(dir.path)) files += entry.is_regular_file();
+  EXPECT_EQ(files, 1) << "the temporary file must be removed";
+  World b;
+  EXPECT_NO_THROW(load_snapshot(b, dir.file("pit.snap")));
+
+  // A directory that does not exist: refused by name, nothing written.
+  EXPECT_THROW(save_snapshot(a.world, dir.file("no/such/dir/pit.snap")), Error);
+}
+
+TEST(Snapshot, AnInvalidSnapshotIsRefusedByFieldAndLeavesTheWorldUntouched) {
+  test::Sim a;
+  build_pour(a, false);
+  Snapshot s;
+  capture_snapshot(a.world, s);
+  s.material[10] = 9;
+  World b;
+  test::add_ball(b, Vec3(0, 1, 0));
+  try {
+    restore_snapshot(s, b, "snapshot 'x'");
+    ADD_FAILURE() << "material 9 does not exist";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("snapshot 'x': spheres row 10: material 9"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(b.spheres.size(), 1u);
+}
+
+namespace {
+
+// Writes a NaN into one sphere's velocity on a chosen step, like a broken system would.
+class Saboteur : public System {
+ public:
+  Saboteur(Entity victim, std::uint64_t on_step) : victim_(victim), on_step_(on_step) {}
+  std::string_view name() const override { return "saboteur"; }
+  Access access() const override {
+    Access a;
+    a.reads = ColumnSet::all_sphere_columns();
+    a.writes.add(ColumnId::SphereVelocity);
+    return a;
+  }
+  void run(World& world) override {
+    if (world.step_count != on_step_) return;
+    world.spheres.mut_velocity()[world.spheres.row(victim_)].y() = std::numeric_limits<float>::quiet_NaN();
+  }
+
+ private:
+  Entity victim_;
+  std::uint64_t on_step_;
+};
+
+}  // namespace
+
+TEST(NanGuard, ANaNWrittenByASystemNamesTheEntityAndTheSystem) {
+  test::Sim s;
+  build_pour(s, false);
+  const Entity victim{1234, 0};
+  s.scheduler->emplace<Saboteur>(victim, 4);
+  NanGuard guard(s.world);
+  for (int i = 0; i < 4; ++i) guard.step(*s.loop, s.world, *s.scheduler);
+  try {
+    guard.step(*s.loop, s.world, *s.scheduler);
+    ADD_FAILURE() << "the NaN went unnoticed";
+  } catch (const NonFiniteState& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("non-finite velocity in " + to_string(victim)), std::string::npos) << message;
+    EXPECT_NE(message.find("during step 4"), std::string::npos) << message;
+    EXPECT_NE(message.find("after system 'saboteur'"), std::string::npos) << message;
+  }
+  // The last good state is the one before the bad step, and it is finite.
+  EXPECT_EQ(guard.last_good().step_count, 4u);
+  World good;
+  restore_snapshot(guard.last_good(), good);
+  EXPECT_FALSE(find_non_finite(good).has_value());
+}
+
+TEST(NanGuard, ANaNInjectedBetweenStepsIsReportedWithItsEntity) {
+  test::Sim s;
+  build_pour(s, false);
+  NanGuard guard(s.world);
+  guard.step(*s.loop, s.world, *s.scheduler);
+  const Entity victim{42, 0};
+  s.world.spheres.mut_velocity()[s.world.spheres.row(victim)].x() = std::numeric_limits<float>::infinity();
+  try {
+    guard.step(*s.loop, s.world, *s.scheduler);
+    ADD_FAILURE() << "the infinity went unnoticed";
+  } catch (const NonFiniteState& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("non-finite velocity in " + to_string(victim) + " before step 1"), std::string::npos)
+        << message;
+  }
+}

@@ -1,0 +1,91 @@
+// The contact solver on worlds of one to three spheres, against closed-form answers.
+#include <gtest/gtest.h>
+
+#include "engine/metrics.h"
+#include "tiny_world.h"
+
+using namespace ballpit;
+
+TEST(Solver, ABallRestingOnTheFloorStaysAtRest) {
+  test::Sim s;
+  test::make_pit(s.world, 1.0f, 0.5f, 0.5f);
+  Entity e = test::add_ball(s.world, Vec3(0, 0.04f, 0));
+  s.start();
+  s.step(600);
+  // The floor spring carries one ball: it sinks m g / k = g / (2 pi 120 Hz)^2 = 17 um, 0.04% r.
+  EXPECT_NEAR(s.position(e).y(), 0.04f, 0.001f * 0.04f);
+  EXPECT_LT(s.velocity(e).norm(), 1e-4f);
+}
+
+TEST(Solver, OverlappingSpheresSeparateNoFasterThanThePushOutCap) {
+  test::Sim s;
+  test::make_pit(s.world, 1.0f, 0.0f, 0.0f);
+  s.world.set_gravity(Vec3::Zero());
+  s.world.solver.push_out_speed = 0.5f;
+  Entity a = test::add_ball(s.world, Vec3(-0.01f, 0.5f, 0));
+  Entity b = test::add_ball(s.world, Vec3(0.01f, 0.5f, 0));  // 75% overlap
+  s.start();
+  float max_speed = 0;
+  for (int i = 0; i < 120; ++i) {
+    s.step();
+    max_speed = std::max({max_speed, s.velocity(a).norm(), s.velocity(b).norm()});
+  }
+  EXPECT_GT((s.position(b) - s.position(a)).norm(), 0.08f * 0.99f);  // apart (within 1% of 2r)
+  // Relaxation removes the push-out velocity after each substep: what is left stays far
+  // below the cap.
+  EXPECT_LE(max_speed, 0.5f);
+}
+
+TEST(Solver, ASlidingBallEndsRollingAtFiveSeventhsOfItsSpeed) {
+  // A solid sphere launched sliding on a rough floor: friction turns sliding into rolling,
+  // and angular momentum about the contact point conserves v_final = 5/7 v0.
+  test::Sim s;
+  test::make_pit(s.world, 10.0f, 0.0f, 0.5f);
+  Entity e = test::add_ball(s.world, Vec3(-5, 0.04f, 0), Vec3(2, 0, 0));
+  s.start();
+  s.step(120);
+  const Vec3 v = s.velocity(e);
+  const Vec3 w = s.world.spheres.angular_velocity()[s.world.spheres.row(e)];
+  EXPECT_NEAR(v.x(), 2.0f * 5.0f / 7.0f, 0.01f * 2.0f * 5.0f / 7.0f);  // 1%: substep friction steps
+  EXPECT_NEAR(w.z(), -v.x() / 0.04f, 0.01f * v.x() / 0.04f);           // rolls without slipping
+}
+
+TEST(Solver, WithoutRestitutionABallDoesNotBounce) {
+  test::Sim s;
+  test::make_pit(s.world, 1.0f, 0.0f, 0.0f);
+  Entity e = test::add_ball(s.world, Vec3(0, 0.5f, 0));
+  s.start();
+  float highest_after_landing = 0;
+  bool landed = false;
+  for (int i = 0; i < 120; ++i) {
+    s.step();
+    if (s.position(e).y() < 0.045f) landed = true;
+    if (landed) highest_after_landing = std::max(highest_after_landing, s.position(e).y());
+  }
+  EXPECT_TRUE(landed);
+  EXPECT_LT(highest_after_landing, 0.04f * 1.01f);
+}
+
+TEST(Solver, AJointColliderPushesABallAtItsSurfaceSpeed) {
+  // An infinitely heavy collider moving at 1 m/s into a ball at rest (no gravity, e = 1): the
+  // ball leaves at 2 m/s, the reflection in the collider's frame (the report's formula).
+  test::Sim s;
+  test::make_pit(s.world, 10.0f, 1.0f, 0.0f);
+  s.world.set_gravity(Vec3::Zero());
+  s.world.solver.restitution_threshold = 0.0f;
+  Entity ball = test::add_ball(s.world, Vec3(0, 1, 0));
+  ColliderDesc d;
+  d.shape = ColliderShape::Sphere;
+  d.a = Vec3(-0.3f, 1, 0);
+  d.radius = 0.1f;
+  d.velocity_a = Vec3(1, 0, 0);
+  std::uint32_t c = s.world.colliders.add(d);
+  s.start();
+  for (int i = 0; i < 30; ++i) {
+    s.step();
+    Vec3 p = s.world.colliders.a()[c] + Vec3(1, 0, 0) * s.world.step();
+    s.world.colliders.set_pose(c, p, p, d.velocity_a, d.velocity_a);
+  }
+  EXPECT_NEAR(s.velocity(ball).x(), 2.0f, 0.02f);
+  EXPECT_NEAR(s.velocity(ball).y(), 0.0f, 1e-4f);
+}

@@ -1,0 +1,66 @@
+// Bad input is refused at the API boundary with a message naming what is wrong.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine/error.h"
+#include "tiny_world.h"
+
+using namespace ballpit;
+
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+void expect_mentions(const std::string& message, std::initializer_list<const char*> words) {
+  for (const char* w : words) EXPECT_NE(message.find(w), std::string::npos) << "'" << w << "' not in: " << message;
+}
+
+}  // namespace
+
+TEST(Validation, NonFinitePositionsAndVelocitiesAreRefusedNamingTheEntity) {
+  World w;
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  test::add_ball(w, Vec3(0, 1, 0));  // entity 0 is fine
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3(nan, 0, 0)); }), {"entity 1", "position", "finite"});
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3(0, inf, 0)); }), {"position", "finite"});
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3(0, 1, 0), Vec3(0, 0, -inf)); }), {"velocity", "finite"});
+  EXPECT_EQ(w.spheres.size(), 1u);  // refused spheres leave nothing behind
+  EXPECT_EQ(w.entities.live_count(), 1u);
+}
+
+TEST(Validation, NonPositiveRadiusAndMassAreRefused) {
+  World w;
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.0f); }), {"radius", "> 0"});
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), -0.1f); }), {"radius", "-0.1"});
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.04f, 0.0f); }), {"mass", "> 0"});
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.04f, std::nanf("")); }), {"mass"});
+}
+
+TEST(Validation, ZeroNegativeOrNonFiniteStepIsRefusedNamingDt) {
+  World w;
+  for (float dt : {0.0f, -0.01f, std::numeric_limits<float>::infinity(), std::nanf("")})
+    expect_mentions(error_of([&] { w.set_step(dt); }), {"dt", "> 0"});
+  EXPECT_NO_THROW(w.set_step(0.01f));
+}
+
+TEST(Validation, UnknownMaterialAndBadSettingsAreRefused) {
+  World w;
+  SphereDesc d;
+  d.material = 3;
+  expect_mentions(error_of([&] { w.add_sphere(d); }), {"material 3", "does not exist"});
+  w.solver.substeps = 0;
+  expect_mentions(error_of([&] { w.validate_settings(); }), {"solver.substeps"});
+  w.solver.substeps = 8;
+  w.pit.half_width = -1;
+  expect_mentions(error_of([&] { w.validate_settings(); }), {"pit.half_width"});
+  expect_mentions(error_of([&] { w.set_gravity(Vec3(0, std::nanf(""), 0)); }), {"gravity", "finite"});
+}
