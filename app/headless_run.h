@@ -26,6 +26,9 @@ struct RunOptions {
   // also, with the last good state, when the NaN guard stops a run.
   std::string load_path;
   std::string save_path;
+  // "key.path=value" overrides of the scene file (scene ending in .json) or the embedded default
+  // pour; the scene's spheres and steps then replace the two fields above.
+  std::vector<std::string> set;
 };
 
 // Runs the scene and returns the report (also what the CLI prints). Throws ballpit::Error for

@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
   bool headless = false;
   CLI::App* cmd = app.add_subcommand("run", "Run a scene headless and print its report");
   cmd->add_flag("--headless", headless, "No window at all (always the case for `run`; accepted for clarity)");
-  cmd->add_option("--scene", run.scene, "Scene to run (pour)")->capture_default_str();
+  cmd->add_option("--scene", run.scene, "Scene to run (pour, pit-character) or a scene file (.json, see scenes/)")
+      ->capture_default_str();
   cmd->add_option("--spheres", run.spheres, "Number of spheres N")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--steps", run.steps, "Fixed steps to run (1/60 s each)")->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_option("--threads", run.threads, "Worker threads (OpenMP and scheduler)")
@@ -66,6 +67,7 @@ int main(int argc, char** argv) {
   cmd->add_option("--substeps", run.substeps, "Solver substeps per step (default: the scene's)")->check(CLI::Range(1, 64));
   cmd->add_flag("--sleeping", run.sleeping, "Let settled spheres sleep (the canonical pour measures without)");
   cmd->add_flag("--naive", run.naive, "Reference all-pairs narrowphase instead of the grid (O(N^2))");
+  cmd->add_option("--set", run.set, "Override a scene field, e.g. --set solver.substeps=4 (repeatable)");
   cmd->add_option("--load", run.load_path, "Resume from this snapshot instead of building the scene");
   cmd->add_option("--save", run.save_path,
                   "Save a snapshot here after the run (and the last good state if the NaN guard stops it)");
@@ -73,6 +75,11 @@ int main(int argc, char** argv) {
   cmd->add_flag("!--no-table", run.print_table, "Do not print the per-system table on stderr");
 
   CLI11_PARSE(app, argc, argv);
+  if (run.scene.ends_with(".json") || !run.set.empty()) {
+    // The scene's own spheres and steps apply unless given on the command line.
+    if (cmd->get_option("--spheres")->count()) run.set.push_back("pour.spheres=" + std::to_string(run.spheres));
+    if (cmd->get_option("--steps")->count()) run.set.push_back("pour.steps=" + std::to_string(run.steps));
+  }
   screenshot_given = shot->count() > 0;
 
   try {

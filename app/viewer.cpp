@@ -155,7 +155,8 @@ void run_viewer(const ViewerOptions& o) {
     frames.record("render", t1, t2);
 
     imgui.new_frame(viewport, static_cast<float>(dt));
-    stats.fps = dt > 0.0 ? 1.0 / dt : 0.0;
+    // Smoothed over about ten frames, so the number can be read.
+    if (dt > 0.0) stats.fps = stats.fps > 0.0 ? 0.9 * stats.fps + 0.1 / dt : 1.0 / dt;
     stats.gpu_ms = software ? -1.0 : renderer.gpu_ms();
     draw_hud(session, view, frames, stats);
     imgui.render();

@@ -231,7 +231,9 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
 }
 
 std::string encode_snapshot(const Snapshot& s) {
-  Writer w;
+  Writer w;  // the header is filled in last, once the payload's size and checksum are known
+  w.out.reserve(kHeaderBytes + 64 * s.entity_index.size() + 20 * s.warm.size() + 4096);
+  w.out.resize(kHeaderBytes);
   w.array(s.entity_index);
   w.array(s.entity_generation);
   w.array(s.position);
@@ -270,15 +272,15 @@ std::string encode_snapshot(const Snapshot& s) {
   w.array(s.warm_begin);
   w.array(s.warm);
 
-  Writer file;
-  file.out.reserve(kHeaderBytes + w.out.size());
-  file.out.append(kMagic, sizeof kMagic);
-  file.put(kVersion);
-  file.put(std::uint32_t{0});
-  file.put(static_cast<std::uint64_t>(w.out.size()));
-  file.put(fnv1a64(w.out));
-  file.out += w.out;
-  return std::move(file.out);
+  const std::string_view payload = std::string_view(w.out).substr(kHeaderBytes);
+  Writer header;
+  header.out.append(kMagic, sizeof kMagic);
+  header.put(kVersion);
+  header.put(std::uint32_t{0});
+  header.put(static_cast<std::uint64_t>(payload.size()));
+  header.put(fnv1a64(payload));
+  w.out.replace(0, kHeaderBytes, header.out);
+  return std::move(w.out);
 }
 
 Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {

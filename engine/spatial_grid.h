@@ -36,10 +36,13 @@ struct SpatialGrid {
   std::uint32_t slab_row_begin(int x) const { return cell_start[static_cast<std::size_t>(x) * ny * nz]; }
 
  private:
+  // Clamps in float before converting: a cast of +inf or of a cell index past INT_MAX is
+  // undefined, and NaN must land somewhere valid too (cell 0; the NaN guard reports it).
   int clamp_axis(float d, int n) const {
-    int c = static_cast<int>(d / cell_size);
-    if (!(d >= 0.0f)) c = 0;  // also catches NaN
-    return c >= n ? n - 1 : c;
+    float c = d / cell_size;
+    if (!(c >= 0.0f)) return 0;
+    if (c >= static_cast<float>(n - 1)) return n - 1;
+    return static_cast<int>(c);
   }
 };
 

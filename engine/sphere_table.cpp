@@ -23,8 +23,8 @@ void SphereTable::add(Entity e, const SphereDesc& d) {
   if (!all_finite(d.velocity)) fail("velocity must be finite, got " + vec_text(d.velocity));
   if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
     fail("radius must be a finite number > 0 m, got " + std::to_string(d.radius));
-  if (!(d.mass > 0.0f) || !std::isfinite(d.mass))
-    fail("mass must be a finite number > 0 kg, got " + std::to_string(d.mass));
+  if (!(d.mass > 0.0f) || !std::isfinite(d.mass) || !std::isfinite(1.0f / d.mass))
+    fail("mass must be a finite number > 0 kg whose inverse is finite, got " + std::to_string(d.mass));
   if (e.index < row_of_.size() && row_of_[e.index] != kNoRow) fail("is already a sphere");
 
   if (row_of_.size() <= e.index) row_of_.resize(e.index + 1, kNoRow);

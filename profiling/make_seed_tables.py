@@ -129,7 +129,9 @@ def main():
                           g.get("balls_inside_colliders", "—") if g else "—",
                           " / ".join(o[k] for k in ("k1", "k6", "k12", "nocol")) if o else ""])
         out.append("ms/step: mean of the two halves' medians of `ballpit run --scene pit-character` "
-                   "(600 steps, 2 threads).\n")
+                   f"({character[0]['steps']} steps of the scripted path after the untimed settling, "
+                   f"{character[0]['threads']} threads); 'character systems' is the runner's "
+                   "character_ms_per_step, 'balls inside' its balls_inside_colliders (worst step).\n")
         out.append(md_table(["n", "naive ms", "grid ms", "character systems ms", "balls inside colliders",
                              "original fps k=1 / 6 / 12 / no col."], table))
     with open(a.md, "w") as f:

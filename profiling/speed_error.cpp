@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   int small_repeats = 5;
   app.add_option("--cases", cases, "Cases to run, comma-separated: bounce,cradle,stack,gas,pour,character,pour-big")->capture_default_str();
   app.add_option("--points", points, "Only these sweep points (labels, comma-separated; default: all)");
-  app.add_option("--threads", options.threads, "Threads for the gas and the pours")->capture_default_str()->check(CLI::Range(1, 256));
+  app.add_option("--threads", options.threads, "Threads for the gas, the pours and the character (results do not depend on it)")->capture_default_str()->check(CLI::Range(1, 256));
   app.add_option("--small-threads", options.small_threads, "Threads for bounce, cradle and stack (1 to 50 spheres)")
       ->capture_default_str()
       ->check(CLI::Range(1, 256));

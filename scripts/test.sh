@@ -11,7 +11,7 @@ bash scripts/build.sh -DBALLPIT_WERROR=ON
 # ThreadSanitizer: the scheduler (threads of its own) and the physics (OpenMP) suites.
 # libgomp is not built with TSan, so OpenMP runs single-threaded there; the scheduler's own
 # threads are fully checked.
-cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug -DBALLPIT_SANITIZE=thread -DBALLPIT_APP=OFF \
+cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug -DBALLPIT_SANITIZE=thread \
   -DBALLPIT_PROFILING=OFF -DBALLPIT_WERROR=ON >/dev/null
 cmake --build build-tsan -j"$(nproc)" --target test_scheduler test_grid test_narrowphase test_solver
 for t in test_scheduler test_grid test_narrowphase test_solver; do

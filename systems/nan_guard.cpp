@@ -56,11 +56,10 @@ void NanGuard::after_step(const World& world, Scheduler& scheduler) {
     return;
   }
   throw NonFiniteState("non-finite " + bad->field + " in " + to_string(bad->entity) + " during step " +
-                       std::to_string(world.step_count - 1) + ", " + locate(world, scheduler, *bad));
+                       std::to_string(world.step_count - 1) + ", " + locate(scheduler, *bad));
 }
 
-std::string NanGuard::locate(const World& world, Scheduler& scheduler, const NonFiniteValue& bad) const {
-  (void)world;
+std::string NanGuard::locate(Scheduler& scheduler, const NonFiniteValue& bad) const {
   // Replay the step on a copy, in registration order (a valid order: dependencies only run
   // from earlier-added systems to later ones), checking after each system.
   World replay;

@@ -49,7 +49,7 @@ class NanGuard {
   const Snapshot& last_good() const { return last_good_; }
 
  private:
-  std::string locate(const World& world, Scheduler& scheduler, const NonFiniteValue& bad) const;
+  std::string locate(Scheduler& scheduler, const NonFiniteValue& bad) const;
 
   Snapshot last_good_;
 };

@@ -303,7 +303,7 @@ void store_warm_start(World& world) {
 #pragma omp parallel for schedule(dynamic, 1)
   for (int s = 0; s < count; ++s)
     each(cs.slabs[s], [&](Contact& c) {
-      if (c.normal_impulse <= 0.0f) return;
+      if (!(c.normal_impulse > 0.0f)) return;  // the counting pass's test exactly (NaN too)
       std::uint32_t partner = (c.b & kTagMask) ? c.b : entity[c.b];
       cs.warm[cursor[c.a]++] = {partner, c.normal_impulse, c.friction_impulse};
     });

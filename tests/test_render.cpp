@@ -322,6 +322,27 @@ TEST_F(Render, AWalkingCharacterMovesOnScreenWithItsProjectedPosition) {
   EXPECT_NEAR(drawn.norm(), projected.norm(), 0.35f * projected.norm() + 2.0f);
 }
 
+TEST_F(Render, InterpolationAtTheStartOfAStepDrawsThePreviousStepExactly) {
+  // Falling balls, so consecutive steps differ on screen.
+  Session s(scene("pour", 2000));
+  for (int i = 0; i < 5; ++i) s.single_step();
+  Renderer renderer;
+  RenderTarget target(kView.width, kView.height);
+  const OrbitCamera camera = default_camera(s);
+  RenderSettings settings;
+  const Image previous = draw(renderer, target, s, camera, settings);  // step 5, as it is
+  // Exactly one step of real time: the loop steps once and is at the start of the next
+  // interval (alpha 0), so the GPU blend must give step 5's positions, looked up by entity
+  // after the grid re-sorted the rows.
+  ASSERT_EQ(s.advance(s.world().step()), 1);
+  ASSERT_EQ(s.alpha(), 0.0f);
+  const Image blended = draw(renderer, target, s, camera, settings);
+  s.paused = true;  // alpha 1: step 6 as it is
+  const Image latest = draw(renderer, target, s, camera, settings);
+  EXPECT_EQ(blended.rgba, previous.rgba);  // mix(p, c, 0) is p, bit for bit
+  EXPECT_GT(difference(latest, previous).count, 100u);  // and step 6 does look different
+}
+
 TEST_F(Render, DrawingNeverChangesTheSimulation) {
   Session drawn(scene("play", 2000)), undrawn(scene("play", 2000));
   Renderer renderer;

@@ -62,6 +62,11 @@ std::uint64_t resume_hash(bool sleeping, const std::string& path, int first, int
   test::Sim a;
   build_pour(a, sleeping);
   a.step(first);
+  if (sleeping) {
+    int asleep = 0;
+    for (std::uint8_t z : a.world.spheres.asleep()) asleep += z;
+    EXPECT_GT(asleep, 0) << "the snapshot should hold sleepers for this test to mean anything";
+  }
   save_snapshot(a.world, path);
   test::Sim b;
   load_snapshot(b.world, path);

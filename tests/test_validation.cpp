@@ -43,6 +43,7 @@ TEST(Validation, NonPositiveRadiusAndMassAreRefused) {
   expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), -0.1f); }), {"radius", "-0.1"});
   expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.04f, 0.0f); }), {"mass", "> 0"});
   expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.04f, std::nanf("")); }), {"mass"});
+  expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.04f, 1e-44f); }), {"mass", "inverse"});
 }
 
 TEST(Validation, ZeroNegativeOrNonFiniteStepIsRefusedNamingDt) {
