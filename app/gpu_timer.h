@@ -1,6 +1,7 @@
 // GPU time of a frame's draws from GL_TIME_ELAPSED queries, read a few frames late so the CPU
-// never waits for the GPU to report. Under llvmpipe the "GPU" is the CPU's rasteriser threads,
-// so this is the render cost the CPU timers alone would miss.
+// never waits for the GPU to report: on a GPU, the render cost CPU timers miss. Under llvmpipe
+// the queries count only part of the rasteriser's work, so there the app finishes each frame
+// and times it on the CPU instead (gl_context.h: is_software_renderer).
 #pragma once
 
 #include <array>

@@ -99,6 +99,7 @@ void run_viewer(const ViewerOptions& o) {
   MouseDrag drag;
   FrameStats stats;
   bool pause_key_was_down = false, step_key_was_down = false, follow_key_was_down = false;
+  bool shot_key_was_down = false;
   std::size_t frame_count = 0;
 
   auto last = Clock::now();
@@ -132,6 +133,9 @@ void run_viewer(const ViewerOptions& o) {
       bool step_down = window.key_down(GLFW_KEY_N);
       if (step_down && !step_key_was_down) session.single_step();
       step_key_was_down = step_down;
+      bool shot_down = window.key_down(GLFW_KEY_F12);
+      if (shot_down && !shot_key_was_down) view.screenshot_requested = true;
+      shot_key_was_down = shot_down;
     }
     if (view.reset_camera) {
       camera = default_camera(session);

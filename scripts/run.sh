@@ -5,5 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+# Spinning OpenMP barriers crawl when cores are shared (other jobs, llvmpipe's threads):
+# wait passively unless told otherwise.
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 bash scripts/build.sh
 exec ./build/app/ballpit "$@"
