@@ -44,9 +44,8 @@ struct SolverPoint {
   nlohmann::ordered_json to_json() const;
 };
 
-// The engine's defaults, then one-at-a-time variations around them (substeps, contact hertz,
-// damping ratio, push-out speed, step size at fixed and at scaled substeps, restitution
-// threshold).
+// The engine's defaults, then one-at-a-time variations around them (substeps, push-out rate,
+// push-out speed cap, step size at fixed and at scaled substeps, restitution threshold).
 std::vector<SolverPoint> sweep_points();
 // The few points run on the expensive big pour: the default, half and twice its substeps.
 std::vector<SolverPoint> big_pour_points();

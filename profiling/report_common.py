@@ -34,8 +34,9 @@ def machine_line(_runs=None):
             load = " / ".join(f.read().split()[:3])
     except OSError:
         load = "unknown"
+    policy = os.environ.get("OMP_WAIT_POLICY", "unset (GNU default: spin, then sleep)")
     return (f"Machine: {model}, {os.cpu_count()} cores; load average (1 / 5 / 15 min) when the "
-            f"report was written: {load}.")
+            f"report was written: {load}; OMP_WAIT_POLICY: {policy}.")
 
 
 def md_table(header, rows):

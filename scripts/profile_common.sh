@@ -7,6 +7,10 @@ BUILD="${BUILD_DIR:-$ROOT/build}"
 REPORTS="$ROOT/profiling/reports"
 PYTHON=/usr/bin/python3  # Debian's python3 with python3-matplotlib
 mkdir -p "$REPORTS"
+# As scripts/run.sh: OpenMP threads wait passively unless told otherwise, because spinning
+# barriers crawl when the cores are shared. The reports print the policy they ran with;
+# OMP_WAIT_POLICY=active (or any value) overrides, and the scaling study runs both.
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-passive}"
 
 build_targets() {
   if [ ! -f "$BUILD/CMakeCache.txt" ]; then

@@ -7,9 +7,10 @@
 #              the pit has collapsed by step 60 at any N)
 #   BIG_STEPS  steps for N >= 1,000,000 (default 120, to keep the run within minutes)
 #   WAIT_POLICIES  OpenMP wait policies for runs on more than one thread (default "default
-#              passive"): "default" runs as shipped (GNU OpenMP spins while it waits, fastest on
-#              an idle machine); "passive" sets OMP_WAIT_POLICY=passive, which suffers far less
-#              when other processes share the cores. 1-thread runs use the default only.
+#              passive"): "default" runs with OMP_WAIT_POLICY unset (GNU OpenMP spins a while
+#              before it sleeps: fastest on an idle machine); "passive" sets it to passive
+#              (scripts/run.sh's choice), which suffers far less when other processes share the
+#              cores. 1-thread runs use "default" only (no barrier partner to wait for).
 set -euo pipefail
 source "$(dirname "$0")/profile_common.sh"
 SIZES="${SIZES:-1000 3000 10000 30000 100000 300000 1000000}"
@@ -28,7 +29,8 @@ for n in $SIZES; do
     for policy in $policies; do
       log "pour n=$n threads=$t steps=$steps wait=$policy"
       if [ "$policy" = default ]; then
-        "$BUILD/app/ballpit" run --scene pour --spheres "$n" --steps "$steps" --threads "$t" --no-table --no-progress
+        env -u OMP_WAIT_POLICY "$BUILD/app/ballpit" run --scene pour --spheres "$n" --steps "$steps" --threads "$t" \
+          --no-table --no-progress
       else
         OMP_WAIT_POLICY="$policy" "$BUILD/app/ballpit" run --scene pour --spheres "$n" --steps "$steps" --threads "$t" \
           --no-table --no-progress

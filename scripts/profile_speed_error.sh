@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Speed against error: sweeps the solver settings (substeps, contact hertz, damping ratio,
-# push-out speed, step size, restitution threshold) over bounce, Newton's cradle, the resting
+# Speed against error: sweeps the solver settings (substeps, push-out rate and speed cap, step
+# size, restitution threshold) over bounce, Newton's cradle, the resting
 # stack of 50, the elastic gas, the pour at 10k, the pit-character at 5k, and a few points of
 # the pour at 100k.
 # Writes profiling/reports/speed_error.{jsonl,csv,png,md}. Takes roughly 40 minutes on 2
