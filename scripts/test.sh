@@ -17,7 +17,10 @@ bash scripts/build.sh -DBALLPIT_WERROR=ON
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug -DBALLPIT_SANITIZE=thread \
   -DBALLPIT_PROFILING=OFF -DBALLPIT_WERROR=ON >/dev/null
 cmake --build build-tsan -j"$(nproc)" --target test_scheduler test_grid test_narrowphase test_solver
+# The grid's 1-vs-2-thread comparison starts an OpenMP team in the uninstrumented libgomp,
+# which TSan cannot see into; the normal suite above runs it.
 for t in test_scheduler test_grid test_narrowphase test_solver; do
-  OMP_NUM_THREADS=1 TSAN_OPTIONS="halt_on_error=1" "build-tsan/tests/$t"
+  OMP_NUM_THREADS=1 TSAN_OPTIONS="halt_on_error=1" "build-tsan/tests/$t" \
+    --gtest_filter=-Grid.SameOrderForOneAndTwoThreads
 done
 echo "[test] all suites passed"
