@@ -17,18 +17,10 @@ float PlayScene::half_width(float footprint_radius, float wall_clearance) const 
 
 Entity PlayScene::build(World& world, std::shared_ptr<const Model> model) const {
   const PourScene pour{.spheres = spheres};
-  world.pit.wall_height = pour.wall_height;
-  world.pit.closed = false;
-  world.pit.material = {pour.restitution, pour.friction};
-  world.materials.assign(1, Material{pour.restitution, pour.friction});
-  world.set_gravity(Vec3(0.0f, -9.81f, 0.0f));
-  world.set_step(pour.dt);
-  world.solver.sleeping = sleeping;
-  world.enable_angular(pour.friction > 0.0f);
-
   // The controller clamps the root against the pit, so the pit must exist first: spawn in a
   // pit as wide as the pour formula, then widen it to what the fitted footprint needs.
-  world.pit.half_width = 0.5f * pour.pit_width();
+  pour.configure(world);
+  world.solver.sleeping = sleeping;
   const Entity spawned = model ? add_character(world, std::move(model), character) : add_character(world, character);
   const CharacterSetup& setup = world.characters.setup(0);
   world.pit.half_width = half_width(setup.footprint_radius, setup.controller.wall_clearance);

@@ -38,7 +38,7 @@ std::vector<Vec3> PourScene::initial_positions() const {
   return out;
 }
 
-void PourScene::build(World& world) const {
+void PourScene::configure(World& world) const {
   world.pit.half_width = 0.5f * pit_width();
   world.pit.wall_height = wall_height;
   world.pit.closed = false;
@@ -48,6 +48,10 @@ void PourScene::build(World& world) const {
   world.set_step(dt);
   world.solver.sleeping = false;
   world.enable_angular(friction > 0.0f);
+}
+
+void PourScene::build(World& world) const {
+  configure(world);
   std::vector<Vec3> positions = initial_positions();
   world.spheres.reserve(positions.size());
   world.entities.reserve(positions.size());

@@ -27,7 +27,11 @@ struct PourScene {
   // Jittered cubic lattice, spacing 2.2 r, jitter +-0.05 r per axis, layer by layer from
   // y = r + 0.01 m up.
   std::vector<Vec3> initial_positions() const;
-  // Fills an empty world: pit, material, gravity, step, spheres (sleeping off, as measured).
+  // The scene's settings without its spheres: pit (sized by the pour formula), material,
+  // gravity, step, spin state, sleeping off (as measured). Scenes built on the pour (the
+  // character's) start from this.
+  void configure(World& world) const;
+  // Fills an empty world: configure(), then the spheres.
   void build(World& world) const;
 };
 

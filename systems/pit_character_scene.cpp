@@ -41,14 +41,7 @@ std::vector<ScriptSegment> PitCharacterScene::scripted_path() {
 Entity PitCharacterScene::build(World& world, std::shared_ptr<const Model> model) const {
   if (!model) model = import_model(character.model_path);
   const float r = pour.radius;
-  world.pit.wall_height = pour.wall_height;
-  world.pit.closed = false;
-  world.pit.material = {pour.restitution, pour.friction};
-  world.materials.assign(1, Material{pour.restitution, pour.friction});
-  world.set_gravity(Vec3(0.0f, -9.81f, 0.0f));
-  world.set_step(pour.dt);
-  world.solver.sleeping = false;
-  world.enable_angular(pour.friction > 0.0f);
+  pour.configure(world);
 
   const Entity e = add_character(world, model, character);
   const CharacterSetup& setup = world.characters.setup(static_cast<std::size_t>(world.characters.find(e)));
