@@ -29,6 +29,7 @@ struct Contact {
   float friction;              // combined Coulomb coefficient
   float restitution;           // combined restitution
   float impact_shift;          // (1+e) x gap of an impact this substep, undone after the move (m)
+  bool loaded_last_step;       // carried a normal impulse at the end of the last step: no impact
 };
 
 // Impulses carried from one step to the next, keyed by the generating sphere's row at the end

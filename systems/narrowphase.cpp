@@ -33,10 +33,11 @@ struct SlabSearch {
   }
 
   Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w) const {
-    Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f};
+    Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f, false};
     if (w) {
       c.normal_impulse = w->normal_impulse;
       c.friction_impulse = w->friction_impulse;
+      c.loaded_last_step = w->normal_impulse > 0.0f;
     }
     return c;
   }

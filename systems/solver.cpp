@@ -29,6 +29,7 @@ struct Solver {
   const float* inv_mass;
   const std::uint8_t* asleep;
   std::uint8_t* pushed;  // rows a contact acted on this substep (see integrate_positions)
+  const std::uint8_t* in_pile;  // rows resting on another sphere (see mark_piled_rows)
   Vec3* pseudo;          // push-out velocity of each row this substep (split impulse)
   std::uint8_t* wake_requests;  // sleepers struck hard enough to wake (ContactSet)
   const Pit& pit;
@@ -87,8 +88,7 @@ struct Solver {
     const std::uint32_t a = c.a;
     const float ma = mobility(a);
     if (ma + mb == 0.0f) return;
-    const bool idle = c.normal_impulse == 0.0f && c.friction_impulse.isZero(0.0f);
-    if (pass == Pass::WarmStart && idle) return;
+    const bool idle = carries_nothing(c);
     Vec3& va = v[a];
     Vec3* wa = w ? &w[a] : nullptr;
     const float ra = r[a];
@@ -128,10 +128,13 @@ struct Solver {
     // (Newton's cradle in the order the sweep does not favour) and must catch an approach
     // before its speculative constraint turns it into a plain inelastic stop. Only an unloaded
     // contact can be struck: in a loaded one (a pile) the warm start moves velocities around,
-    // and reading that as an impact would pump energy into the pile.
+    // and reading that as an impact would pump energy into the pile. "Unloaded" means over the
+    // whole last step too: inside a pile, Gauss-Seidel leaves a loaded contact momentarily
+    // empty, and with few substeps those moments turned into bounces that boiled the pile
+    // (pour 10k at 3 substeps: 38 J left at the end instead of 0.003 J).
     float impact = 0.0f;
-    if (c.restitution > 0.0f && c.normal_impulse == 0.0f && vn < -restitution_threshold &&
-        f.gap + vn * h < 0.0f) {
+    if (c.restitution > 0.0f && c.normal_impulse == 0.0f && !c.loaded_last_step &&
+        vn < -restitution_threshold && f.gap + vn * h < 0.0f) {
       // A gap the next move will close is the next Solve's impact (it then corrects that
       // move exactly); Relax must only keep its speculative stop from loading the contact.
       if (pass == Pass::Relax && f.gap > 0.0f) return;
@@ -146,7 +149,11 @@ struct Solver {
       if (pass == Pass::Solve) target += (1.0f + c.restitution) * approach_accel * (h - t);
       impact = (target - vn) * normal_mass;
       apply(impact * n);
-      c.impact_shift = (1.0f + c.restitution) * (overlapped_in_last_move ? f.gap : std::max(f.gap, 0.0f));
+      // The correction assumes the pair moves freely for the rest of the substep; a sphere
+      // resting in a pile does not, and shifting it shoves it into its neighbours.
+      const bool free_pair = !in_pile[a] && ((c.b & kTagMask) || !in_pile[c.b]);
+      if (free_pair)
+        c.impact_shift = (1.0f + c.restitution) * (overlapped_in_last_move ? f.gap : std::max(f.gap, 0.0f));
       vn = target;
     }
 
@@ -195,8 +202,14 @@ struct Solver {
     apply_tangential(next - old);
   }
 
+  static bool carries_nothing(const Contact& c) {
+    return c.normal_impulse == 0.0f && c.friction_impulse.isZero(0.0f);
+  }
+
   template <Pass pass>
   void pair(Contact& c) const {
+    // Most contacts of a pour carry nothing to warm-start with: skip their frame's sqrt.
+    if (pass == Pass::WarmStart && carries_nothing(c)) return;
     const std::uint32_t b = c.b;
     Frame f = pair_frame(c.a, b);
     const float mb = mobility(b);
@@ -220,6 +233,7 @@ struct Solver {
 
   template <Pass pass>
   void fixed(Contact& c) const {
+    if (pass == Pass::WarmStart && carries_nothing(c)) return;
     Frame f = static_frame(c.a, c.b);
     Vec3 surface = f.surface_velocity;
     bool unused = false;
@@ -276,6 +290,25 @@ void sweep(std::vector<SlabContacts>& slabs, const Solver& solver) {
   }
   for (SlabContacts& s : slabs)
     for (Contact& c : s.serial) solver.pair<pass>(c);
+}
+
+// Marks the rows with a sphere-sphere contact that carried load at the end of the last step:
+// spheres resting in a pile. Their impacts get no exact-bounce position correction
+// (Contact::impact_shift): moving a piled sphere by a correction its neighbours do not share
+// makes overlaps, whose push-out and impacts pumped energy into piles (pour 4k at 3 substeps:
+// 0.66 J left after 10 s with the correction, 0.0002 J without). Parity sweeps as the solver's,
+// so no two threads write one row.
+void mark_piled_rows(std::vector<SlabContacts>& slabs, std::vector<std::uint8_t>& in_pile) {
+  auto mark = [&](const std::vector<Contact>& contacts) {
+    for (const Contact& c : contacts)
+      if (c.loaded_last_step) in_pile[c.a] = in_pile[c.b] = 1;
+  };
+  const int count = static_cast<int>(slabs.size());
+  for (int parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int s = parity; s < count; s += 2) mark(slabs[s].pairs);
+  }
+  for (const SlabContacts& s : slabs) mark(s.serial);
 }
 
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
@@ -335,6 +368,7 @@ void solve_contacts(World& world) {
                 nullptr,
                 nullptr,
                 nullptr,
+                nullptr,
                 world.pit,
                 colliders.a(),
                 colliders.b(),
@@ -352,6 +386,9 @@ void solve_contacts(World& world) {
   std::vector<SlabContacts>& slabs = world.contacts.slabs;
   std::vector<std::uint8_t> pushed(spheres.size());
   solver.pushed = pushed.data();
+  std::vector<std::uint8_t> in_pile(spheres.size());
+  mark_piled_rows(slabs, in_pile);
+  solver.in_pile = in_pile.data();
   std::vector<Vec3> pseudo(spheres.size());
   solver.pseudo = pseudo.data();
   world.contacts.wake_requests.assign(spheres.size(), 0);
