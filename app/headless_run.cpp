@@ -2,7 +2,6 @@
 
 #include <omp.h>
 #include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,6 +11,7 @@
 
 #include "engine/error.h"
 #include "engine/fixed_step_loop.h"
+#include "engine/memory_budget.h"
 #include "engine/metrics.h"
 #include "engine/pour_scene.h"
 #include "engine/scene_file.h"
@@ -24,6 +24,8 @@
 #include "systems/nan_guard.h"
 #include "systems/physics_pipeline.h"
 #include "systems/pit_character_scene.h"
+#include "systems/scene_setup.h"
+#include "systems/substep_control.h"
 
 namespace ballpit {
 
@@ -31,26 +33,6 @@ namespace {
 
 // Where a run stopped by the NaN guard saves its last good state when --save was not given.
 constexpr const char* kLastGoodSnapshot = "ballpit-last-good.snap";
-
-// Peak memory a sphere costs in a pour run, all of it: columns, grid, contacts, warm-start
-// cache, the NaN guard's last good copy and the allocator's slack (unit: bytes). Measured as
-// peak RSS / N of a settled 100k pour (850 B, this session), rounded up for headroom.
-constexpr double kPeakBytesPerSphere = 1000.0;
-
-// Refuses a run whose estimated peak memory exceeds the machine's physical memory, before
-// allocating anything, with the estimate in the message.
-void refuse_if_too_big(std::size_t spheres) {
-  const double physical = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-  const double need = static_cast<double>(spheres) * kPeakBytesPerSphere;
-  if (physical > 0 && need > physical) {
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "--spheres %zu needs about %.1f GiB (%.0f bytes a sphere), more than this machine's %.1f GiB; "
-                  "expected at most %.0f spheres",
-                  spheres, need / 1073741824.0, kPeakBytesPerSphere, physical / 1073741824.0, physical / kPeakBytesPerSphere);
-    throw Error(text);
-  }
-}
 
 double peak_rss_mb() {
   rusage u{};
@@ -82,22 +64,24 @@ double round_to(double x, double digits) {
 
 nlohmann::ordered_json run_headless(const RunOptions& options) {
   RunOptions o = options;  // a scene file sets spheres and steps
-  const bool character = o.scene == "pit-character";
-  // A scene file (engine/scene_file.h), or the embedded default pour when only --set is given.
-  const bool use_file = o.scene.ends_with(".json") || (o.scene == "pour" && !o.set.empty());
+  // A scene file (engine/scene_file.h), or a built-in scene's embedded file when --set is given.
+  const bool use_file = o.scene.ends_with(".json") || (is_builtin_scene(o.scene) && !o.set.empty());
+  const bool builtin_character = o.scene == "pit-character" && !use_file;
   SceneFile file_scene;
   if (use_file) {
-    file_scene = load_scene(o.scene.ends_with(".json") ? o.scene : std::string(), o.set);
-    o.spheres = file_scene.pour.spheres;
-    o.steps = file_scene.pour.steps;
+    file_scene = load_scene(o.scene, o.set);
+    o.spheres = file_scene.total_spheres();
+    o.steps = file_scene.steps;
   }
-  if (o.scene != "pour" && !character && !use_file)
+  if (!is_builtin_scene(o.scene) && !use_file)
     throw Error("--scene: unknown scene '" + o.scene + "' (known: pour, pit-character, or a .json scene file)");
-  if (!o.set.empty() && !use_file) throw Error("--set: works with --scene pour or a .json scene file");
+  if (!o.set.empty() && !use_file) throw Error("--set: works with --scene pour, pit-character or a .json scene file");
   if (o.spheres < 1) throw Error("--spheres must be >= 1");
   if (o.steps < 1) throw Error("--steps must be >= 1");
   refuse_if_too_big(o.spheres);
   if (o.threads < 1) throw Error("--threads must be >= 1");
+  if (o.tolerance_r != 0.0 && !(o.tolerance_r > 0.0 && o.tolerance_r <= 1.0))
+    throw Error("--tolerance must be in (0, 1] (largest overlap after a step, as a fraction of the ball radius)");
   omp_set_num_threads(o.threads);
 
   World world;
@@ -106,17 +90,18 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   PitCharacterScene pit_character;
   pit_character.pour = scene;
   Entity walker;
+  SceneSetup file_setup;
   const bool loaded = !o.load_path.empty();
-  if (loaded && (character || use_file)) throw Error("--load: the snapshot is the scene; leave out --scene and --set");
+  if (loaded && (builtin_character || use_file)) throw Error("--load: the snapshot is the scene; leave out --scene and --set");
   double load_ms = 0.0;
   if (loaded) {
     auto l0 = std::chrono::steady_clock::now();
     load_snapshot(world, o.load_path);
     load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - l0).count();
-  } else if (character) {
+  } else if (builtin_character) {
     walker = pit_character.build(world);
   } else if (use_file) {
-    build_scene(file_scene, world);
+    file_setup = setup_scene(file_scene, world);
   } else {
     scene.build(world);
   }
@@ -130,21 +115,37 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   scheduler.profiler().set_tracing(!o.trace_path.empty());
   add_character_systems(scheduler, world);  // none without a character
   add_physics_systems(scheduler, world);
+  // --tolerance: after each step, substeps for the next one from the overlap this one left.
+  SubstepControlSystem* substep_control = nullptr;
+  if (o.tolerance_r > 0.0) {
+    SubstepControlSettings control;
+    control.tolerance_r = o.tolerance_r;
+    substep_control = &scheduler.emplace<SubstepControlSystem>(control);
+  }
   FixedStepLoop loop(world, scheduler);
-  if (!o.save_path.empty()) check_snapshot_supported(world);  // refuse before the run, not after
-  // The NaN guard keeps the last good state; snapshots (and so the guard) skip characters.
-  std::optional<NanGuard> guard;
-  if (!character) guard.emplace(world);
-  // pit-character: the pour settles around the standing character first, untimed; --steps
-  // then counts the scripted path (600 = its 10 s) and the profiler shows only those.
+  // With a character (built in, from a scene file, or in a loaded snapshot) the report adds
+  // the character's figures. A freshly built one first stands while the pour settles around
+  // it, untimed; --steps then counts its path (600 = the canonical 10 s) and the profiler
+  // shows only those. A loaded snapshot resumes where it was saved.
+  const bool character = world.characters.size() > 0;
   ColliderOverlap worst_overlap;
   double fastest_ball = 0.0;
-  if (character) {
-    if (o.progress) std::fprintf(stderr, "[ballpit] settling %d steps before the path\n", pit_character.settle_steps);
-    pit_character.settle(world, scheduler);
-    pit_character.start_path(world, walker);
+  if (character && !loaded) {
+    const int settle_steps = builtin_character ? pit_character.settle_steps : file_setup.settle_steps;
+    if (o.progress) std::fprintf(stderr, "[ballpit] settling %d steps before the path\n", settle_steps);
+    if (builtin_character) {
+      pit_character.settle(world, scheduler);
+      pit_character.start_path(world, walker);
+    } else {
+      settle_scene(file_setup, world, scheduler);
+      start_scene_path(file_setup, world);
+    }
     scheduler.profiler().reset();
+    if (substep_control) substep_control->reset_stats();  // the report covers the path only
   }
+  // The NaN guard keeps the last good state (a snapshot: spheres and characters), from here on.
+  std::optional<NanGuard> guard;
+  guard.emplace(world);
 
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(o.steps));
@@ -156,6 +157,7 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     loop.step();
     auto t1 = std::chrono::steady_clock::now();
     step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    if (o.after_step) o.after_step(world);
     if (guard) {
       try {
         guard->after_step(world, scheduler);
@@ -194,6 +196,18 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     report["saved"] = o.save_path;
     report["save_ms"] = round_to(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count(), 1);
   }
+  if (substep_control) {
+    // What the tolerance achieved (worst overlap the controller measured after a step) and what
+    // it cost (substeps used per step); the timing above includes the controller itself.
+    const SubstepControlStats& st = substep_control->stats();
+    report["tolerance_r"] = o.tolerance_r;
+    report["max_step_penetration_r"] = round_to(st.max_overlap_r, 6);
+    report["steps_over_tolerance"] = st.steps_over;
+    report["substeps_mean"] = round_to(st.substeps_mean(), 3);
+    report["substeps_min"] = st.substeps_min;
+    report["substeps_max"] = st.substeps_max;
+    report["substeps_final"] = world.solver.substeps;
+  }
   if (character) {
     // Worst step of the run: deepest ball in a collider, and most balls deeper than 1% r.
     report["max_collider_penetration_r"] = round_to(worst_overlap.max_depth_r, 6);
@@ -224,6 +238,7 @@ nlohmann::ordered_json step_report(const std::string& scene, const World& world,
   j["threads"] = threads;
   j["steps"] = steps;
   j["dt"] = world.step();
+  j["pit_half_width_m"] = world.pit.half_width;  // the pit-character scene may widen it
   j["ms_per_step_pour_mean"] = round_to(pour.mean, 4);
   j["ms_per_step_pour_median"] = round_to(pour.median, 4);
   j["ms_per_step_settled_mean"] = round_to(settled.mean, 4);

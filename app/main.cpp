@@ -65,9 +65,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 256));
   cmd->add_option("--trace", run.trace_path, "Write a Chrome trace (JSON, opens in Perfetto) to this file");
   cmd->add_option("--substeps", run.substeps, "Solver substeps per step (default: the scene's)")->check(CLI::Range(1, 64));
+  cmd->add_option("--tolerance", run.tolerance_r,
+                  "Accuracy as an input: keep the deepest overlap after each step under P x the ball radius "
+                  "(0 < P <= 1, e.g. 0.01) by choosing the substeps (1..32) every step, starting from --substeps "
+                  "or the scene's; the report adds tolerance_r, max_step_penetration_r, steps_over_tolerance and "
+                  "substeps_mean/min/max/final")
+      ->check(CLI::Range(1e-6, 1.0));
   cmd->add_flag("--sleeping", run.sleeping, "Let settled spheres sleep (the canonical pour measures without)");
   cmd->add_flag("--naive", run.naive, "Reference all-pairs narrowphase instead of the grid (O(N^2))");
-  cmd->add_option("--set", run.set, "Override a scene field, e.g. --set solver.substeps=4 (repeatable)");
+  cmd->add_option("--set", run.set,
+                  "Override a scene field, e.g. --set solver.substeps=4 or --set populations.0.radius=0.05 "
+                  "(repeatable; works with --scene pour, pit-character or a .json file)");
   cmd->add_option("--load", run.load_path, "Resume from this snapshot instead of building the scene");
   cmd->add_option("--save", run.save_path,
                   "Save a snapshot here after the run (and the last good state if the NaN guard stops it)");
@@ -76,9 +84,10 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (run.scene.ends_with(".json") || !run.set.empty()) {
-    // The scene's own spheres and steps apply unless given on the command line.
-    if (cmd->get_option("--spheres")->count()) run.set.push_back("pour.spheres=" + std::to_string(run.spheres));
-    if (cmd->get_option("--steps")->count()) run.set.push_back("pour.steps=" + std::to_string(run.steps));
+    // The scene's own spheres and steps apply unless given on the command line (--spheres sets
+    // the first population's count).
+    if (cmd->get_option("--spheres")->count()) run.set.push_back("populations.0.count=" + std::to_string(run.spheres));
+    if (cmd->get_option("--steps")->count()) run.set.push_back("steps=" + std::to_string(run.steps));
   }
   screenshot_given = shot->count() > 0;
 

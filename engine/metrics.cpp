@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "engine/world.h"
@@ -54,8 +55,24 @@ void measure_overlaps(const World& world, Metrics& m) {
 
 }  // namespace
 
+double kinetic_energy(const World& world) {
+  const SphereTable& s = world.spheres;
+  auto v = s.velocity();
+  auto inv_mass = s.inv_mass();
+  auto r = s.radius();
+  auto spin = s.has_angular() ? s.angular_velocity() : std::span<const Vec3>{};
+  double ke = 0.0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const double m = 1.0 / inv_mass[i];
+    ke += 0.5 * m * v[i].cast<double>().squaredNorm();
+    if (!spin.empty()) ke += 0.2 * m * r[i] * r[i] * spin[i].cast<double>().squaredNorm();  // 1/2 I w^2
+  }
+  return ke;
+}
+
 Metrics measure(const World& world) {
   Metrics m;
+  m.kinetic_energy_j = kinetic_energy(world);
   const SphereTable& s = world.spheres;
   auto x = s.position();
   auto v = s.velocity();
@@ -65,11 +82,6 @@ Metrics measure(const World& world) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     double mass = 1.0 / inv_mass[i];
     double speed2 = v[i].cast<double>().squaredNorm();
-    m.kinetic_energy_j += 0.5 * mass * speed2;
-    if (s.has_angular()) {
-      double inertia = 0.4 * mass * r[i] * r[i];
-      m.kinetic_energy_j += 0.5 * inertia * s.angular_velocity()[i].cast<double>().squaredNorm();
-    }
     m.max_speed_mps = std::max(m.max_speed_mps, std::sqrt(speed2));
     for (int a = 0; a < 3; ++a) m.momentum[a] += mass * v[i][a];
     if (!pit.inside(x[i], r[i])) ++m.escaped;

@@ -22,4 +22,7 @@ struct Metrics {
 
 Metrics measure(const World& world);
 
+// Translational plus rotational (solid sphere, I = 2/5 m r^2) kinetic energy (unit: J).
+double kinetic_energy(const World& world);
+
 }  // namespace ballpit

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/populations.h"
 #include "engine/world.h"
 
 namespace ballpit {
@@ -65,18 +66,15 @@ void PourScene::build(World& world) const {
   }
 }
 
-std::uint32_t ball_color(std::uint64_t index) {
-  static constexpr std::uint32_t kPalette[] = {
-      0xff3030e0u,  // red    (ABGR as little-endian RGBA8)
-      0xff20c8f8u,  // yellow
-      0xffe07020u,  // blue
-      0xff40c040u,  // green
-      0xff2090f8u,  // orange
-      0xffc050a0u,  // purple
-  };
-  std::uint64_t h = index * 0x9E3779B97F4A7C15ull;
-  h ^= h >> 29;
-  return kPalette[h % (sizeof kPalette / sizeof kPalette[0])];
+Population PourScene::population() const {
+  Population p;
+  p.count = spheres;
+  p.radius.value = radius;
+  p.mass = mass;
+  p.material = {restitution, friction};
+  return p;  // the ball-pit palette, on the jittered lattice from the floor: the defaults
 }
+
+std::uint32_t ball_color(std::uint64_t index) { return palette_color(index, ball_palette()); }
 
 }  // namespace ballpit

@@ -10,6 +10,7 @@
 namespace ballpit {
 
 class World;
+struct Population;
 
 struct PourScene {
   std::size_t spheres = 10000;
@@ -33,6 +34,9 @@ struct PourScene {
   void configure(World& world) const;
   // Fills an empty world: configure(), then the spheres.
   void build(World& world) const;
+  // The pour's balls as a scene-file population (engine/populations.h): placed from `seed`
+  // by add_populations, they are exactly the spheres build() adds.
+  Population population() const;
 };
 
 // Ball-pit colours, picked by index so every run colours the same sphere the same way.

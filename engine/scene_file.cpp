@@ -1,120 +1,171 @@
 #include "engine/scene_file.h"
 
-#include <cmath>
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <limits>
-#include <sstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "engine/error.h"
+#include "engine/json_fields.h"
+#include "engine/pour_scene.h"
+#include "engine/scene_file_sections.h"
 #include "engine/world.h"
 
 namespace ballpit {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
-
-std::string type_name(const Json& v) {
-  if (v.is_number_integer()) return "integer " + v.dump();
-  if (v.is_number()) return "number " + v.dump();
-  if (v.is_string()) return "string " + v.dump();
-  return std::string(v.type_name()) + (v.is_null() ? "" : " " + v.dump());
+Json switch_json(FeatureSwitch s) {
+  if (s == FeatureSwitch::Auto) return "auto";
+  return s == FeatureSwitch::On;
 }
 
-// One JSON object at a field path: unknown keys are refused up front, known ones read on demand.
-class Fields {
- public:
-  Fields(const Json& object, std::string path, const std::string& source, std::vector<std::string> known)
-      : object_(object), path_(std::move(path)), source_(source) {
-    if (!object.is_object()) fail(path_, "expected an object, got " + type_name(object));
-    for (const auto& [key, value] : object.items()) {
-      bool ok = false;
-      for (const std::string& k : known) ok = ok || k == key;
-      if (!ok) {
-        std::string list;
-        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-        fail(field(key), "unknown key (known keys here: " + list + ")");
-      }
+void read_switch(const JsonFields& f, const std::string& key, FeatureSwitch& out) {
+  const Json* v = f.find(key);
+  if (!v) return;
+  if (v->is_boolean()) out = v->get<bool>() ? FeatureSwitch::On : FeatureSwitch::Off;
+  else if (v->is_string() && *v == "auto") out = FeatureSwitch::Auto;
+  else f.fail(f.field(key), "expected \"auto\", true or false, got " + json_type_name(*v));
+}
+
+void parse_pit(const Json& j, ScenePit& pit, const std::string& source) {
+  JsonFields f(j, "pit", source, {"half_width", "width", "wall_height", "closed", "material"});
+  if (f.find("half_width") && f.find("width")) f.fail(f.field("width"), "expected either half_width or width, not both");
+  for (const char* key : {"half_width", "width"}) {
+    const Json* v = f.find(key);
+    if (!v || (v->is_string() && *v == "auto")) continue;
+    if (!v->is_number()) f.fail(f.field(key), "expected \"auto\" or a number > 0 (m), got " + json_type_name(*v));
+    f.number(key, pit.half_width, 0.0f, kNoLimit, true, "m");
+    if (std::string(key) == "width") pit.half_width *= 0.5f;
+  }
+  f.number("wall_height", pit.wall_height, 0.0f, kNoLimit, true, "m");
+  f.boolean("closed", pit.closed);
+  if (const Json* m = f.find("material"); m && !(m->is_string() && *m == "auto")) {
+    JsonFields mf(*m, f.field("material"), source, {"restitution", "friction"});
+    Material mat;
+    mf.number("restitution", mat.restitution, 0.0f, 1.0f, false, "unitless");
+    mf.number("friction", mat.friction, 0.0f, kNoLimit, false, "unitless");
+    pit.material = mat;
+  }
+}
+
+void parse_solver(const Json& j, SolverSettings& v, const std::string& source) {
+  JsonFields f(j, "solver", source,
+               {"substeps", "push_out_rate", "push_out_speed", "restitution_threshold", "linear_damping",
+                "angular_damping", "narrowphase", "sleep_speed", "sleep_time", "wake_speed"});
+  f.integer("substeps", v.substeps, 1, 64);
+  f.number("push_out_rate", v.push_out_rate, 0.0f, 1.0f, true, "unitless");
+  f.number("push_out_speed", v.push_out_speed, 0.0f, kNoLimit, true, "m/s");
+  f.number("restitution_threshold", v.restitution_threshold, 0.0f, kNoLimit, false, "m/s");
+  f.number("linear_damping", v.linear_damping, 0.0f, kNoLimit, false, "1/s");
+  f.number("angular_damping", v.angular_damping, 0.0f, kNoLimit, false, "1/s");
+  int mode = v.narrowphase == NarrowphaseMode::Naive ? 1 : 0;
+  f.choice("narrowphase", mode, {"grid", "naive"});
+  v.narrowphase = mode == 1 ? NarrowphaseMode::Naive : NarrowphaseMode::Grid;
+  f.number("sleep_speed", v.sleep_speed, 0.0f, kNoLimit, false, "m/s");
+  f.number("sleep_time", v.sleep_time, 0.0f, kNoLimit, true, "s");
+  f.number("wake_speed", v.wake_speed, 0.0f, kNoLimit, false, "m/s");
+}
+
+// Checks that need the whole scene: a stated character needs its section, every sphere fits
+// between the walls, every box lies inside the pit.
+void check_scene(const SceneFile& s, const Json& j) {
+  if (s.features.character == FeatureSwitch::On && !s.character)
+    scene_error(s.source, "features.character", "expected \"auto\" or false: the scene has no character section");
+  const float half = s.pit_half_width();
+  const bool automatic = s.pit.half_width <= 0.0f;
+  const bool by_width = j.contains("pit") && j.at("pit").is_object() && j.at("pit").contains("width");
+  for (std::size_t k = 0; k < s.populations.size(); ++k) {
+    const Population& p = s.populations[k];
+    const std::string at = "populations." + std::to_string(k);
+    const float r = p.radius.largest();
+    if (!(half > r)) {
+      if (automatic)
+        scene_error(s.source, at + ".radius",
+                    "a sphere of radius " + number_text(r) + " m does not fit in the pit of " +
+                        std::to_string(s.total_spheres()) + " spheres (half width " + number_text(half) +
+                        " m); expected a smaller radius");
+      scene_error(s.source, by_width ? "pit.width" : "pit.half_width",
+                  "expected a pit wider than one sphere (" + at + " has radius " + number_text(r) + " m), got " +
+                      (by_width ? "width " + number_text(2.0f * half) : "half width " + number_text(half)) + " m");
+    }
+    if (p.placement.kind == Placement::Kind::Box) {
+      const Vec3& lo = p.placement.min;
+      const Vec3& hi = p.placement.max;
+      const bool inside = lo.x() >= -half && lo.z() >= -half && hi.x() <= half && hi.z() <= half && lo.y() >= 0.0f &&
+                          hi.y() <= s.pit.wall_height;
+      if (!inside)
+        scene_error(s.source, at + ".placement",
+                    "expected a box inside the pit (x and z within +-" + number_text(half) + " m, y from 0 to " +
+                        number_text(s.pit.wall_height) + " m)");
     }
   }
+}
 
-  [[noreturn]] void fail(const std::string& field_path, const std::string& what) const {
-    throw Error(source_ + ": " + (field_path.empty() ? std::string("(top level)") : field_path) + ": " + what);
-  }
-  std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-  const Json* find(const std::string& key) const {
-    auto it = object_.find(key);
-    return it == object_.end() ? nullptr : &*it;
-  }
+// Keys of which a scene gives one or the other: setting one by --set drops its twin.
+constexpr std::pair<const char*, const char*> kAlternatives[] = {
+    {"half_width", "width"}, {"mass", "density"}, {"height", "scale"}};
 
-  // A finite number in [lo, hi] (open at lo when lo_open).
-  void number(const std::string& key, float& out, float lo, float hi, bool lo_open, const char* unit) const {
-    const Json* v = find(key);
-    if (!v) return;
-    if (!v->is_number()) fail(field(key), std::string("expected a number (") + unit + "), got " + type_name(*v));
-    const double x = v->get<double>();
-    const bool ok = std::isfinite(x) && (lo_open ? x > lo : x >= lo) && x <= hi;
-    if (!ok) {
-      std::ostringstream range;
-      range << (lo_open ? "> " : ">= ") << lo;
-      if (hi < std::numeric_limits<float>::max()) range << " and <= " << hi;
-      fail(field(key), "expected a number " + range.str() + " (" + unit + "), got " + v->dump());
-    }
-    out = static_cast<float>(x);
-  }
-  template <class Int>
-  void integer(const std::string& key, Int& out, long long lo, long long hi) const {
-    const Json* v = find(key);
-    if (!v) return;
-    if (!v->is_number_integer()) fail(field(key), "expected an integer, got " + type_name(*v));
-    const long long x = v->get<long long>();
-    if (x < lo || x > hi || (v->is_number_unsigned() && v->get<unsigned long long>() > static_cast<unsigned long long>(hi)))
-      fail(field(key), "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + v->dump());
-    out = static_cast<Int>(x);
-  }
-  void boolean(const std::string& key, bool& out) const {
-    const Json* v = find(key);
-    if (!v) return;
-    if (!v->is_boolean()) fail(field(key), "expected true or false, got " + type_name(*v));
-    out = v->get<bool>();
-  }
-  void vec3(const std::string& key, Vec3& out, const char* unit) const {
-    const Json* v = find(key);
-    if (!v) return;
-    if (!v->is_array() || v->size() != 3) fail(field(key), std::string("expected [x, y, z] (") + unit + "), got " + type_name(*v));
-    for (int a = 0; a < 3; ++a) {
-      const Json& c = (*v)[static_cast<std::size_t>(a)];
-      if (!c.is_number() || !std::isfinite(c.get<double>()))
-        fail(field(key) + "[" + std::to_string(a) + "]", "expected a finite number, got " + type_name(c));
-      out[a] = c.get<float>();
-    }
-  }
-
- private:
-  const Json& object_;
-  std::string path_;
-  const std::string& source_;
-};
-
-constexpr float kMax = std::numeric_limits<float>::max();
-
-std::string number_text(float x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
+bool is_index(const std::string& key) {
+  return !key.empty() && key.size() < 10 && std::all_of(key.begin(), key.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
 }
 
 }  // namespace
 
+std::vector<ScriptSegment> SceneCharacter::default_path() {
+  const ControllerInput walk{1.0f, 0.0f, false};
+  const ControllerInput walk_left{1.0f, 1.0f, false};
+  const ControllerInput run{1.0f, 0.0f, true};
+  const ControllerInput idle{};
+  return {{3.0f, walk}, {2.0f, walk_left}, {3.0f, run}, {2.0f, idle}};
+}
+
+std::size_t SceneFile::total_spheres() const {
+  std::size_t n = 0;
+  for (const Population& p : populations) n += p.count;
+  return n;
+}
+
+float SceneFile::pit_half_width() const {
+  if (pit.half_width > 0.0f) return pit.half_width;
+  // The pour's formula, evaluated exactly as PourScene does so the default scene is the pour.
+  PourScene pour;
+  pour.spheres = total_spheres();
+  return 0.5f * pour.pit_width();
+}
+
+bool SceneFile::uses_angular() const {
+  if (features.angular != FeatureSwitch::Auto) return features.angular == FeatureSwitch::On;
+  // Friction is what spins a sphere (pairs combine by geometric mean, so a frictionless ball
+  // gets no torque even from a rough wall).
+  return std::any_of(populations.begin(), populations.end(), [](const Population& p) { return p.material.friction > 0.0f; });
+}
+
+bool SceneFile::uses_character() const { return character.has_value() && features.character != FeatureSwitch::Off; }
+
 Json scene_to_json(const SceneFile& s) {
   Json j;
-  j["kind"] = s.kind;
-  const PourScene& p = s.pour;
-  j["pour"] = {{"spheres", p.spheres},         {"radius", p.radius}, {"mass", p.mass},
-               {"restitution", p.restitution}, {"friction", p.friction}, {"wall_height", p.wall_height},
-               {"seed", p.seed},               {"dt", p.dt},         {"steps", p.steps}};
+  j["dt"] = s.dt;
+  j["steps"] = s.steps;
+  j["seed"] = s.seed;
+  j["gravity"] = {s.gravity.x(), s.gravity.y(), s.gravity.z()};
+  Json pit;
+  pit["half_width"] = s.pit.half_width > 0.0f ? Json(s.pit.half_width) : Json("auto");
+  pit["wall_height"] = s.pit.wall_height;
+  pit["closed"] = s.pit.closed;
+  pit["material"] = s.pit.material ? Json{{"restitution", s.pit.material->restitution}, {"friction", s.pit.material->friction}}
+                                   : Json("auto");
+  j["pit"] = pit;
+  Json populations = Json::array();
+  for (const Population& p : s.populations) populations.push_back(population_to_json(p));
+  j["populations"] = populations;
+  if (s.character) j["character"] = character_to_json(*s.character);
+  j["features"] = {{"angular", switch_json(s.features.angular)},
+                   {"character", switch_json(s.features.character)},
+                   {"sleeping", s.solver.sleeping}};
   const SolverSettings& v = s.solver;
   j["solver"] = {{"substeps", v.substeps},
                  {"push_out_rate", v.push_out_rate},
@@ -123,89 +174,86 @@ Json scene_to_json(const SceneFile& s) {
                  {"linear_damping", v.linear_damping},
                  {"angular_damping", v.angular_damping},
                  {"narrowphase", v.narrowphase == NarrowphaseMode::Naive ? "naive" : "grid"},
-                 {"sleeping", v.sleeping},
                  {"sleep_speed", v.sleep_speed},
                  {"sleep_time", v.sleep_time},
                  {"wake_speed", v.wake_speed}};
-  j["gravity"] = {s.gravity.x(), s.gravity.y(), s.gravity.z()};
   return j;
 }
 
 SceneFile parse_scene(const Json& j, const std::string& source) {
   SceneFile s;
-  Fields top(j, "", source, {"kind", "pour", "solver", "gravity"});
-  if (const Json* kind = top.find("kind")) {
-    if (!kind->is_string() || kind->get<std::string>() != "pour")
-      top.fail("kind", "expected \"pour\" (the only scene kind so far), got " + type_name(*kind));
-  }
-  if (const Json* pour = top.find("pour")) {
-    Fields f(*pour, "pour", source,
-             {"spheres", "radius", "mass", "restitution", "friction", "wall_height", "seed", "dt", "steps"});
-    PourScene& p = s.pour;
-    f.integer("spheres", p.spheres, 1, 1LL << 32);
-    f.number("radius", p.radius, 0.0f, kMax, true, "m");
-    f.number("mass", p.mass, 0.0f, kMax, true, "kg");
-    // The solver works with 1/m: a mass below 1/FLT_MAX (2.9e-39 kg) makes it infinite.
-    if (!std::isfinite(1.0f / p.mass))
-      f.fail("pour.mass", "expected a mass whose inverse is finite (> 2.9e-39 kg), got " + number_text(p.mass));
-    f.number("restitution", p.restitution, 0.0f, 1.0f, false, "unitless");
-    f.number("friction", p.friction, 0.0f, kMax, false, "unitless");
-    f.number("wall_height", p.wall_height, 0.0f, kMax, true, "m");
-    f.integer("seed", p.seed, 0, 0xffffffffLL);
-    f.number("dt", p.dt, 0.0f, kMax, true, "s");
-    f.integer("steps", p.steps, 1, std::numeric_limits<int>::max());
-    // The pit is sized from the count: it must hold at least one sphere between its walls.
-    if (!(0.5f * p.pit_width() > p.radius)) {
-      f.fail("pour.radius", "a sphere of radius " + number_text(p.radius) + " m does not fit in the pit of " +
-                                std::to_string(p.spheres) + " spheres (half width " +
-                                number_text(0.5f * p.pit_width()) + " m); expected a smaller radius");
-    }
-  }
-  if (const Json* solver = top.find("solver")) {
-    Fields f(*solver, "solver", source,
-             {"substeps", "push_out_rate", "push_out_speed", "restitution_threshold", "linear_damping",
-              "angular_damping", "narrowphase", "sleeping", "sleep_speed", "sleep_time", "wake_speed"});
-    SolverSettings& v = s.solver;
-    f.integer("substeps", v.substeps, 1, 64);
-    f.number("push_out_rate", v.push_out_rate, 0.0f, 1.0f, true, "unitless");
-    f.number("push_out_speed", v.push_out_speed, 0.0f, kMax, true, "m/s");
-    f.number("restitution_threshold", v.restitution_threshold, 0.0f, kMax, false, "m/s");
-    f.number("linear_damping", v.linear_damping, 0.0f, kMax, false, "1/s");
-    f.number("angular_damping", v.angular_damping, 0.0f, kMax, false, "1/s");
-    if (const Json* mode = f.find("narrowphase")) {
-      if (!mode->is_string() || (*mode != "grid" && *mode != "naive"))
-        f.fail("solver.narrowphase", "expected \"grid\" or \"naive\", got " + type_name(*mode));
-      v.narrowphase = *mode == "naive" ? NarrowphaseMode::Naive : NarrowphaseMode::Grid;
-    }
-    f.boolean("sleeping", v.sleeping);
-    f.number("sleep_speed", v.sleep_speed, 0.0f, kMax, false, "m/s");
-    f.number("sleep_time", v.sleep_time, 0.0f, kMax, true, "s");
-    f.number("wake_speed", v.wake_speed, 0.0f, kMax, false, "m/s");
-  }
+  s.source = source;
+  if (j.is_object() && j.contains("pour"))
+    scene_error(source, "pour", "unknown key: the pour section of older scene files is now \"pit\" and \"populations\" "
+                                "(see scenes/pour.json)");
+  JsonFields top(j, "", source,
+                 {"dt", "steps", "seed", "gravity", "pit", "populations", "character", "features", "solver"});
+  top.number("dt", s.dt, 0.0f, kNoLimit, true, "s");
+  top.integer("steps", s.steps, 1, std::numeric_limits<int>::max());
+  top.integer("seed", s.seed, 0, 0xffffffffLL);
   top.vec3("gravity", s.gravity, "m/s^2");
+  if (const Json* pit = top.find("pit")) parse_pit(*pit, s.pit, source);
+  if (const Json* list = top.find("populations")) {
+    if (!list->is_array() || list->empty())
+      top.fail("populations", "expected a list of at least one population, got " + json_type_name(*list));
+    s.populations.clear();
+    for (std::size_t k = 0; k < list->size(); ++k)
+      s.populations.push_back(parse_population((*list)[k], "populations." + std::to_string(k), source));
+  }
+  if (const Json* c = top.find("character"); c && !c->is_null()) s.character = parse_character(*c, source);
+  if (const Json* features = top.find("features")) {
+    JsonFields f(*features, "features", source, {"angular", "character", "sleeping"});
+    read_switch(f, "angular", s.features.angular);
+    read_switch(f, "character", s.features.character);
+    f.boolean("sleeping", s.solver.sleeping);
+  }
+  if (const Json* solver = top.find("solver")) parse_solver(*solver, s.solver, source);
+  check_scene(s, j);
   return s;
 }
 
 void apply_override(Json& j, const std::string& assignment) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw Error("--set '" + assignment + "': expected key=value, e.g. pour.spheres=5000");
+    throw Error("--set '" + assignment + "': expected key=value, e.g. populations.0.count=5000");
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
-  // The path must name a field of a complete scene (all keys present in the default's JSON).
-  const Json defaults = scene_to_json(SceneFile{});
-  const Json* known = &defaults;
+  auto fail = [&](const std::string& at, const std::string& what) {
+    throw Error("--set '" + assignment + "': '" + at + "' " + what);
+  };
   Json* target = &j;
+  std::string parent;
   std::size_t begin = 0;
   while (true) {
     const std::size_t dot = path.find('.', begin);
     const std::string key = path.substr(begin, dot == std::string::npos ? std::string::npos : dot - begin);
-    if (!known->is_object() || !known->contains(key))
-      throw Error("--set '" + assignment + "': '" + path.substr(0, dot) + "' is not a field of a scene file");
-    known = &(*known)[key];
-    if (!target->is_object()) *target = Json::object();
-    target = &(*target)[key];
+    const std::string here = path.substr(0, dot);
+    if (key.empty()) fail(here, "has an empty key; expected a.b.c");
+    if (target->is_array()) {
+      // A list element by index; the index one past the end appends one.
+      if (!is_index(key)) fail(here, "names no element of the list '" + parent + "'; expected an index 0.." + std::to_string(target->size()));
+      const std::size_t index = std::stoul(key);
+      if (index > target->size())
+        fail(here, "is past the end of the list '" + parent + "' (" + std::to_string(target->size()) +
+                       " elements); expected an index 0.." + std::to_string(target->size()));
+      if (index == target->size()) target->push_back(Json::object());
+      target = &(*target)[index];
+    } else {
+      if (!target->is_object()) *target = Json::object();  // "auto", a number radius: replaced by an object
+      for (const auto& [a, b] : kAlternatives) {
+        if (key == a) target->erase(b);
+        if (key == b) target->erase(a);
+      }
+      Json& next = (*target)[key];
+      // A missing list is made when the next key is an index: populations.0.count on {}.
+      if (next.is_null() && dot != std::string::npos) {
+        const std::size_t after = path.find('.', dot + 1);
+        if (is_index(path.substr(dot + 1, after == std::string::npos ? std::string::npos : after - dot - 1))) next = Json::array();
+      }
+      target = &next;
+    }
     if (dot == std::string::npos) break;
+    parent = here;
     begin = dot + 1;
   }
   Json value = Json::parse(text, nullptr, false);
@@ -213,30 +261,64 @@ void apply_override(Json& j, const std::string& assignment) {
   *target = std::move(value);
 }
 
+bool is_builtin_scene(const std::string& name) { return name == "pour" || name == "pit-character"; }
+
+SceneFile builtin_scene(const std::string& name) {
+  SceneFile s;
+  if (name == "pit-character") {
+    s.character = SceneCharacter{};
+    s.source = "the built-in pit-character scene";
+  } else if (name != "pour") {
+    throw Error("unknown built-in scene '" + name + "' (known: pour, pit-character)");
+  }
+  return s;
+}
+
 SceneFile load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   Json j;
-  std::string source = path.empty() ? "the default scene" : path;
-  if (path.empty()) {
-    j = scene_to_json(SceneFile{});
+  std::string source;
+  if (path.empty() || is_builtin_scene(path)) {
+    const SceneFile builtin = builtin_scene(path.empty() ? "pour" : path);
+    j = scene_to_json(builtin);
+    source = builtin.source;
   } else {
+    source = path;
     std::ifstream in(path);
     if (!in) throw Error(path + ": cannot open the scene file");
     try {
       j = Json::parse(in);
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {
+      // parse_error, and out_of_range for a number beyond double (1e400): both are the file's.
       throw Error(path + ": not valid JSON (" + e.what() + ")");
     }
   }
+  if (overrides.empty()) return parse_scene(j, source);
+  // Overrides edit the complete scene, so every field is there to be set, defaults included.
+  j = scene_to_json(parse_scene(j, source));
   for (const std::string& o : overrides) apply_override(j, o);
-  if (!overrides.empty()) source += " with --set overrides";
-  return parse_scene(j, source);
+  return parse_scene(j, source + " with --set overrides");
+}
+
+void configure_scene(const SceneFile& scene, World& world) {
+  const Material first = scene.populations.empty() ? Material{} : scene.populations.front().material;
+  world.pit.half_width = scene.pit_half_width();
+  world.pit.wall_height = scene.pit.wall_height;
+  world.pit.closed = scene.pit.closed;
+  world.pit.material = scene.pit.material.value_or(first);
+  world.materials.assign(1, first);
+  world.set_gravity(scene.gravity);
+  world.set_step(scene.dt);
+  world.solver = scene.solver;
+  world.enable_angular(scene.uses_angular());
+  world.validate_settings();
 }
 
 void build_scene(const SceneFile& scene, World& world) {
-  scene.pour.build(world);
-  world.solver = scene.solver;
-  world.set_gravity(scene.gravity);
-  world.validate_settings();
+  if (scene.uses_character())
+    throw Error(scene.source + ": character: this scene has a character; build it with setup_scene "
+                "(systems/scene_setup.h), which has the character systems");
+  configure_scene(scene, world);
+  add_populations(world, scene.populations, scene.seed, scene.source);
 }
 
 }  // namespace ballpit

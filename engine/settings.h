@@ -1,6 +1,7 @@
 // Everything a scene sets that is not a per-sphere value: the pit, the materials, the solver.
-// Defaults are the ones the speed-against-error study picked (profiling/reports/); each field
-// says its unit and why its default is what it is.
+// Defaults are the ones the speed-against-error study picked (profiling/reports/speed_error.md,
+// "Why the default is the default", states the rule and checks it); each field says its unit
+// and why its default is what it is.
 #pragma once
 
 #include <cstdint>

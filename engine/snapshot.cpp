@@ -1,25 +1,26 @@
 #include "engine/snapshot.h"
 
-#include <bit>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <algorithm>
 #include <span>
-#include <type_traits>
 
 #include "engine/atomic_file.h"
 #include "engine/error.h"
+#include "engine/snapshot_io.h"
 #include "engine/world.h"
 
 namespace ballpit {
 
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "snapshots are written little-endian");
+using snapshot_io::Reader;
+using snapshot_io::Writer;
 
 constexpr char kMagic[8] = {'B', 'A', 'L', 'L', 'P', 'I', 'T', '\x1a'};
-constexpr std::uint32_t kVersion = 1;
+// 2: characters and joint colliders (version 1 held spheres only).
+constexpr std::uint32_t kVersion = 2;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
 
 // A new field in these structs must be written and read below: these asserts fail the build
@@ -27,13 +28,6 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
 static_assert(sizeof(Material) == 8, "Material changed: update snapshot.cpp and kVersion");
 static_assert(sizeof(Pit) == 20, "Pit changed: update snapshot.cpp and kVersion");
 static_assert(sizeof(SolverSettings) == 40, "SolverSettings changed: update snapshot.cpp and kVersion");
-static_assert(sizeof(Vec3) == 12 && sizeof(WarmStartEntry) == 20, "stored as raw bytes: no padding");
-
-// Types stored as their bytes. Eigen's Vec3 is not formally trivially copyable but is three
-// packed floats (asserted above).
-template <class T>
-constexpr bool kRawBytes =
-    std::is_trivially_copyable_v<T> || std::is_same_v<T, Vec3> || std::is_same_v<T, WarmStartEntry>;
 
 std::uint64_t fnv1a64(std::string_view bytes) {
   std::uint64_t h = 0xcbf29ce484222325ull;
@@ -43,55 +37,6 @@ std::uint64_t fnv1a64(std::string_view bytes) {
   }
   return h;
 }
-
-struct Writer {
-  std::string out;
-  template <class T>
-  void put(const T& v) {
-    static_assert(kRawBytes<T>);
-    out.append(reinterpret_cast<const char*>(&v), sizeof v);
-  }
-  template <class T>
-  void array(std::span<const T> a) {
-    static_assert(kRawBytes<T>);
-    put(static_cast<std::uint64_t>(a.size()));
-    out.append(reinterpret_cast<const char*>(a.data()), a.size_bytes());
-  }
-  template <class T>
-  void array(const std::vector<T>& a) {
-    array(std::span<const T>(a));
-  }
-};
-
-// Reads fields in order; every read is bounds-checked and names the field it was reading.
-struct Reader {
-  std::string_view in;
-  std::size_t at = 0;
-  const std::string& path;
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error("snapshot '" + path + "': " + what);
-  }
-  template <class T>
-  T get(const char* field) {
-    if (in.size() - at < sizeof(T))
-      fail("payload ends inside field '" + std::string(field) + "' (offset " + std::to_string(at) + ")");
-    static_assert(kRawBytes<T>);
-    T v;
-    std::memcpy(static_cast<void*>(&v), in.data() + at, sizeof v);
-    at += sizeof v;
-    return v;
-  }
-  template <class T>
-  void array(const char* field, std::vector<T>& a) {
-    const std::uint64_t n = get<std::uint64_t>(field);
-    if (n > (in.size() - at) / sizeof(T))
-      fail("field '" + std::string(field) + "' claims " + std::to_string(n) + " elements, more than the payload holds");
-    a.resize(static_cast<std::size_t>(n));
-    if (n) std::memcpy(static_cast<void*>(a.data()), in.data() + at, n * sizeof(T));
-    at += n * sizeof(T);
-  }
-};
 
 void put_material(Writer& w, const Material& m) {
   w.put(m.restitution);
@@ -112,13 +57,7 @@ void copy_span(std::vector<T>& out, std::span<const T> in) {
 
 }  // namespace
 
-void check_snapshot_supported(const World& world) {
-  if (world.characters.size() != 0 || world.colliders.size() != 0)
-    throw Error("snapshots do not store characters or joint colliders yet; this scene has them");
-}
-
 void capture_snapshot(const World& world, Snapshot& s) {
-  check_snapshot_supported(world);
   const SphereTable& t = world.spheres;
   const std::size_t n = t.size();
   copy_span(s.entity_index, t.entity_index());
@@ -149,6 +88,7 @@ void capture_snapshot(const World& world, Snapshot& s) {
   s.step_count = world.step_count;
   s.warm_begin = world.contacts.warm_begin;
   s.warm = world.contacts.warm;
+  capture_characters(world, s.characters, s.colliders);
 }
 
 void restore_snapshot(const Snapshot& s, World& world, const std::string& source) {
@@ -222,6 +162,7 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
     }
     w.contacts.warm_begin = s.warm_begin;
     w.contacts.warm = s.warm;
+    restore_characters(s.characters, s.colliders, w);
   } catch (const Error& e) {
     const std::string what = e.what();
     if (what.rfind(source, 0) == 0) throw;
@@ -271,6 +212,7 @@ std::string encode_snapshot(const Snapshot& s) {
   w.put(s.step_count);
   w.array(s.warm_begin);
   w.array(s.warm);
+  put_characters(w, s.characters, s.colliders);
 
   const std::string_view payload = std::string_view(w.out).substr(kHeaderBytes);
   Writer header;
@@ -298,7 +240,9 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   if (version > kVersion)
     fail("format version " + std::to_string(version) + " is newer than this build reads (" + std::to_string(kVersion) +
          "); use a newer ballpit");
-  if (version != kVersion) fail("format version " + std::to_string(version) + " is not supported");
+  if (version < kVersion)
+    fail("format version " + std::to_string(version) + " is older than this build reads (" + std::to_string(kVersion) +
+         ", which added character state); save the run again with this build");
   const std::uint64_t have = bytes.size() - kHeaderBytes;
   if (have < payload_bytes)
     fail("truncated: the header promises " + std::to_string(payload_bytes) + " payload bytes, the file holds " +
@@ -350,6 +294,7 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   s.step_count = r.get<std::uint64_t>("step_count");
   r.array("contacts.warm_begin", s.warm_begin);
   r.array("contacts.warm", s.warm);
+  get_characters(r, s.characters, s.colliders);
   if (r.at != payload.size()) r.fail("the payload has " + std::to_string(payload.size() - r.at) + " unread bytes");
   return s;
 }

@@ -1,5 +1,7 @@
 // Snapshots: the whole simulation state as one versioned, checksummed binary file, so a run can
-// stop and resume bit-identically (the resumed run reaches the same state hash).
+// stop and resume bit-identically (the resumed run reaches the same state hash): spheres and
+// their sleep state, the solver's warm-start cache, the step counter, the settings, and the
+// characters (pose, animation clocks, controller, locomotion blend) with their collider rows.
 // Decision: sphere rows are stored in their current order with the warm-start cache keyed by
 // row, so the next step's grid rebuild and warm start see exactly what they would have seen.
 #pragma once
@@ -9,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/character_snapshot.h"
 #include "engine/contact_set.h"
 #include "engine/math.h"
 #include "engine/settings.h"
@@ -39,10 +42,9 @@ struct Snapshot {
   std::uint64_t step_count = 0;
   std::vector<std::uint32_t> warm_begin;  // ContactSet's warm-start cache, keyed by row
   std::vector<WarmStartEntry> warm;
+  ColliderSnapshot colliders;                 // joint-collider rows (format version 2 on)
+  std::vector<CharacterSnapshot> characters;  // (format version 2 on)
 };
-
-// Throws ballpit::Error if the world holds state snapshots do not store yet (a character).
-void check_snapshot_supported(const World& world);
 
 // Copies the world's state into `out`, reusing its capacity (cheap enough to do every step).
 void capture_snapshot(const World& world, Snapshot& out);
@@ -53,7 +55,7 @@ void restore_snapshot(const Snapshot& snapshot, World& world, const std::string&
 // The file format: header (magic "BALLPIT\x1a", u32 version, u32 reserved, u64 payload bytes,
 // u64 FNV-1a 64 of the payload), then the payload, all little-endian.
 std::string encode_snapshot(const Snapshot& snapshot);
-// Throws ballpit::Error naming `path` for a foreign, newer, truncated or corrupted file.
+// Throws ballpit::Error naming `path` for a foreign, older, newer, truncated or corrupted file.
 Snapshot decode_snapshot(std::string_view bytes, const std::string& path);
 
 // Written through write_file_atomically: a failed save leaves the previous file intact.

@@ -50,11 +50,34 @@ std::uint64_t state_hash(const World& world) {
     hash.word(asleep[row]);
     hash.f(still[row]);
   }
-  auto ca = world.colliders.a();
-  auto cb = world.colliders.b();
-  for (std::size_t c = 0; c < world.colliders.size(); ++c) {
-    hash.vec(ca[c]);
-    hash.vec(cb[c]);
+  // Characters: controller (input, script clock, root at both ends of the step), animation
+  // clocks and blend, and the pose the colliders are moved to; then the collider rows.
+  const CharacterTable& characters = world.characters;
+  for (std::size_t i = 0; i < characters.size(); ++i) {
+    const CharacterMotion& m = characters.motion(i);
+    const CharacterPose& p = characters.pose(i);
+    hash.word(characters.setup(i).entity.index);
+    hash.f(m.input.forward);
+    hash.f(m.input.turn);
+    hash.word(m.input.run);
+    hash.f(m.script_time);
+    for (const RootState* r : {&m.previous, &m.current}) {
+      hash.vec(r->position);
+      hash.f(r->heading);
+      hash.f(r->speed);
+    }
+    hash.f(p.phase);
+    hash.f(p.idle_time);
+    for (float w : p.weights) hash.f(w);
+    for (const Affine3& t : p.model)
+      for (int k = 0; k < 16; ++k) hash.f(t.matrix().data()[k]);
+  }
+  const ColliderTable& c = world.colliders;
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    hash.vec(c.a()[k]);
+    hash.vec(c.b()[k]);
+    hash.vec(c.velocity_a()[k]);
+    hash.vec(c.velocity_b()[k]);
   }
   return hash.h;
 }

@@ -12,9 +12,12 @@
 // ballpit runs through the same library call as `ballpit run` (app/headless_run.h), at 1 and at
 // 2 threads.
 //
-// Bullet needs about 0.8 s a step at 10k spheres on a small machine, so the default run is
-// shortened (--steps); the table says how many steps both engines ran. The pit has collapsed
-// after about 1 s (60 steps) at any N, because the pit is as deep for every N.
+// Bullet needs about 0.8 s a step at 10k spheres and 2.6 s at 100k on a small machine, so runs
+// are shortened (--steps); the table says how many steps both engines ran. The pit has
+// collapsed after about 1 s (60 steps) at any N, because the pit is as deep for every N. So
+// that "kinetic energy after settling" means what it says, both engines' kinetic energy is
+// followed every step (outside the timing) and each line gives settle_s, the time from which
+// the rms speed stays under 1 cm/s to the end of the run (omitted when it never does).
 #include <btBulletDynamicsCommon.h>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +27,8 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "app/headless_run.h"
@@ -35,6 +40,36 @@
 namespace {
 
 using namespace ballpit;
+
+// rms speed below which the pit counts as settled, as profiling/cases.cpp's pour (unit: m/s).
+constexpr double kSettleSpeed = 0.01;
+
+// The step after which the kinetic energy stayed under the settled level to the end.
+class SettleWatch {
+ public:
+  SettleWatch(std::size_t spheres, double mass)
+      : limit_(static_cast<double>(spheres) * 0.5 * mass * kSettleSpeed * kSettleSpeed) {}
+  void after_step(double kinetic_energy) {
+    if (kinetic_energy > limit_) last_moving_ = steps_;
+    ++steps_;
+  }
+  // Writes settle_s when the run ended settled.
+  void report(nlohmann::ordered_json& j, double dt) const {
+    if (last_moving_ + 1 < steps_) j["settle_s"] = (last_moving_ + 1) * dt;
+  }
+
+ private:
+  double limit_;
+  int steps_ = 0;
+  int last_moving_ = -1;
+};
+
+std::string settled_text(const nlohmann::ordered_json& r) {
+  if (!r.contains("settle_s")) return "no";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f s", r["settle_s"].get<double>());
+  return text;
+}
 
 struct Halves {
   double pour_mean = 0, pour_median = 0, settled_mean = 0, settled_median = 0;
@@ -100,12 +135,20 @@ nlohmann::ordered_json run_bullet(const PourScene& scene, int steps) {
   }
 
   std::vector<double> ms;
+  SettleWatch settle(balls.size(), scene.mass);
+  // Bullet's inertia tensor of a solid sphere: 2/5 m r^2, as ballpit's.
+  const double spin_inertia = 0.4 * scene.mass * scene.radius * scene.radius;
   auto started = std::chrono::steady_clock::now(), last_report = started;
   for (int s = 0; s < steps; ++s) {
     auto t0 = std::chrono::steady_clock::now();
     world.stepSimulation(scene.dt, 0);  // maxSubSteps 0: exactly one step of dt
     auto t1 = std::chrono::steady_clock::now();
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    double ke = 0.0;
+    for (const btRigidBody* b : balls)
+      ke += 0.5 * scene.mass * b->getLinearVelocity().length2() +
+            0.5 * spin_inertia * b->getAngularVelocity().length2();
+    settle.after_step(ke);
     if (t1 - last_report > std::chrono::seconds(5)) {
       last_report = t1;
       double elapsed = std::chrono::duration<double>(t1 - started).count();
@@ -129,6 +172,13 @@ nlohmann::ordered_json run_bullet(const PourScene& scene, int steps) {
     if (!w.empty()) w[i] = Vec3(av.x(), av.y(), av.z());
   }
   Metrics m = measure(mirror);
+  // Bullet drops a removed body's pairs by scanning every pair: O(N x pairs) for the whole pit,
+  // over ten minutes at 100k. Dropping each pair first (the last one, O(1)) keeps it linear.
+  btOverlappingPairCache* pairs = world.getBroadphase()->getOverlappingPairCache();
+  while (pairs->getNumOverlappingPairs() > 0) {
+    btBroadphasePair& last = pairs->getOverlappingPairArray()[pairs->getNumOverlappingPairs() - 1];
+    pairs->removeOverlappingPair(last.m_pProxy0, last.m_pProxy1, &dispatcher);
+  }
   for (auto& b : bodies) world.removeRigidBody(b.get());
 
   Halves h = split_times(ms);
@@ -149,6 +199,7 @@ nlohmann::ordered_json run_bullet(const PourScene& scene, int steps) {
   j["escaped"] = m.escaped;
   j["kinetic_energy_j"] = m.kinetic_energy_j;
   j["max_speed_mps"] = m.max_speed_mps;
+  settle.report(j, scene.dt);
   return j;
 }
 
@@ -177,25 +228,28 @@ int main(int argc, char** argv) {
       o.steps = steps;
       o.threads = t;
       o.print_table = false;
+      SettleWatch settle(spheres, scene.mass);
+      o.after_step = [&settle](const World& w) { settle.after_step(kinetic_energy(w)); };
       nlohmann::ordered_json ours;
       ours["engine"] = "ballpit";
       const nlohmann::ordered_json report = run_headless(o);
       for (auto it = report.begin(); it != report.end(); ++it) ours[it.key()] = it.value();
+      settle.report(ours, scene.dt);
       rows.push_back(ours);
     }
     rows.push_back(run_bullet(scene, steps));
 
     std::printf("pour, N = %zu, %d steps of 1/60 s%s\n", spheres, steps,
                 steps < scene.steps ? " (SHORTENED: the canonical pour is 600 steps; both engines ran the same steps)" : "");
-    std::printf("%-12s %7s %12s %12s %12s %12s %10s %10s %8s %10s\n", "engine", "threads", "ms/step 1st", "ms/step 2nd",
-                "max pen/r", "mean pen/r", "wall pen/r", "KE (J)", "escaped", "max v");
+    std::printf("%-12s %7s %12s %12s %12s %12s %10s %10s %8s %10s %10s\n", "engine", "threads", "ms/step 1st",
+                "ms/step 2nd", "max pen/r", "mean pen/r", "wall pen/r", "KE (J)", "escaped", "max v", "settled at");
     for (const auto& r : rows)
-      std::printf("%-12s %7d %12.3f %12.3f %12.4f %12.5f %10.4f %10.5f %8zu %10.3f\n",
+      std::printf("%-12s %7d %12.3f %12.3f %12.4f %12.5f %10.4f %10.5f %8zu %10.3f %10s\n",
                   r["engine"].get<std::string>().c_str(), r["threads"].get<int>(),
                   r["ms_per_step_pour_median"].get<double>(), r["ms_per_step_settled_median"].get<double>(),
                   r["max_penetration_r"].get<double>(), r["mean_penetration_r"].get<double>(),
                   r["max_wall_penetration_r"].get<double>(), r["kinetic_energy_j"].get<double>(),
-                  r["escaped"].get<std::size_t>(), r["max_speed_mps"].get<double>());
+                  r["escaped"].get<std::size_t>(), r["max_speed_mps"].get<double>(), settled_text(r).c_str());
     std::printf("(ms/step: medians of the first and second half of the run)\n");
     for (const auto& r : rows) std::cout << r.dump() << "\n";
   } catch (const ballpit::Error& e) {

@@ -10,7 +10,11 @@
 //   stack    max(drift, overlap, floor overlap) of a 50-sphere column after 20 s, / r
 //   pour     max sphere-sphere penetration at the end of the 10 s pour, / r
 //   gas      |KE(10,000 steps) / KE(0) - 1| of 2,000 elastic spheres in a closed box, no gravity
-//   character  deepest ball inside a joint collider / r, worst step of the pit-character path
+//   character  deepest overlap after a step (ball-ball, wall, joint collider) / r, worst step of
+//            the pit-character path
+// Every point also records max_step_penetration_r, the worst overlap after any timed step as
+// the substep controller measures it (systems/substep_control.h): what a tolerance point
+// promises to bound, so tolerance and fixed points compare on it too.
 #pragma once
 
 #include <cstddef>
@@ -38,16 +42,24 @@ struct SolverPoint {
   float push_out_speed = SolverSettings{}.push_out_speed;  // (unit: m/s)
   float restitution_threshold = SolverSettings{}.restitution_threshold;  // (unit: m/s)
   float dt = PourScene{}.dt;  // (unit: s)
+  // > 0: tolerance mode (`ballpit run --tolerance`): the substep controller picks the substeps
+  // every step, starting from `substeps`, to keep the overlap after a step under this x r.
+  double tolerance_r = 0.0;
 
   // Sets world.solver's fields and the step; the scene's other settings stay.
   void apply(World& world) const;
   nlohmann::ordered_json to_json() const;
 };
 
+// Tolerances of the tolerance-mode points (fractions of r), loosest first.
+inline constexpr double kTolerancePoints[] = {0.01, 0.003, 0.001};
+
 // The engine's defaults, then one-at-a-time variations around them (substeps, push-out rate,
-// push-out speed cap, step size at fixed and at scaled substeps, restitution threshold).
+// push-out speed cap, step size at fixed and at scaled substeps, restitution threshold), then
+// tolerance mode at each of kTolerancePoints (from the default settings).
 std::vector<SolverPoint> sweep_points();
-// The few points run on the expensive big pour: the default, half and twice its substeps.
+// The few points run on the expensive big pour: the default, half and twice its substeps, and
+// the loosest tolerance.
 std::vector<SolverPoint> big_pour_points();
 
 // Results (errors, state hashes) are the same for any thread count: the engine is deterministic.
@@ -62,7 +74,9 @@ struct CaseOptions {
 };
 
 // Each returns one JSON object: case, point settings, spheres, steps, sim_s, ms_per_step,
-// cost_ms_per_sim_s, error, error_metric, the case's own figures, state_hash.
+// cost_ms_per_sim_s, max_step_penetration_r, error, error_metric, the case's own figures,
+// state_hash; tolerance points add substeps_mean, substeps_min, substeps_max and
+// steps_over_tolerance.
 nlohmann::ordered_json run_bounce(const SolverPoint& p, const CaseOptions& o);
 nlohmann::ordered_json run_cradle(const SolverPoint& p, const CaseOptions& o);
 nlohmann::ordered_json run_stack(const SolverPoint& p, const CaseOptions& o);

@@ -12,6 +12,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("jsonl")
     ap.add_argument("--md", required=True)
+    ap.add_argument("--runs", default="", help="the N:STEPS list the script ran, quoted in the report")
     a = ap.parse_args()
     runs = load_jsonl(a.jsonl)
     out = ["# The pour in Bullet and in ballpit, side by side\n",
@@ -21,26 +22,41 @@ def main():
            "sleeping off), same number of steps for both engines in each table, and the same "
            "metric code (engine/metrics.h) on both final states. Bullet 3.24 at its defaults "
            "(sequential impulse, 10 iterations, split impulse, no CCD), single-threaded; its "
-           "per-body restitution and friction are sqrt(0.5) because Bullet multiplies them per pair.\n",
+           "per-body restitution and friction are sqrt(0.5) because Bullet multiplies them per pair. "
+           "'settled at' is the time from which the rms speed stayed under 1 cm/s to the end of "
+           "the run (kinetic energy followed every step, outside the timing); 'no' means the run "
+           "ended before that, so its KE is not yet a settled one.\n",
            machine_line(runs) + "\n"]
+    if a.runs:
+        out.append(f"Runs (N:steps): `{a.runs}` (`BULLET_RUNS` of scripts/profile_bullet.sh).\n")
     for n in sorted({r["spheres"] for r in runs}):
         rs = [r for r in runs if r["spheres"] == n]
         steps = rs[0]["steps"]
         out.append(f"## N = {n:,}, {steps} steps\n")
+        bullet = next((r for r in rs if r["engine"].startswith("bullet")), None)
         if steps < 600:
+            bullet_ms = (bullet["ms_per_step_pour_mean"] + bullet["ms_per_step_settled_mean"]) / 2 if bullet else 0
+            per_step = ((f" (Bullet took {bullet_ms / 1000:.2f} s a step here)" if bullet_ms >= 1000 else
+                         f" (Bullet took {bullet_ms:.0f} ms a step here)") if bullet else "")
             out.append(f"**Shortened run**: {steps} of the canonical 600 steps ({steps / 60:.2f} s of the "
-                       "10 s pour), because Bullet is slow at this size. Both engines are measured after "
-                       "the same steps; ms/step are medians of the first and second half of the run.\n")
+                       f"10 s pour), because Bullet is slow at this size{per_step}. Both engines are measured "
+                       "after the same steps; ms/step are medians of the first and second half of the run.\n")
         table = []
         for r in rs:
             table.append([r["engine"], r["threads"], f"{r['ms_per_step_pour_median']:.2f}",
                           f"{r['ms_per_step_settled_median']:.2f}", f"{r['max_penetration_r']:.4f}",
                           f"{r['mean_penetration_r']:.5f}", f"{r['max_wall_penetration_r']:.4f}",
-                          f"{r['kinetic_energy_j']:.4g}", f"{r['max_speed_mps']:.3f}", r["escaped"]])
+                          f"{r['kinetic_energy_j']:.4g}", f"{r['max_speed_mps']:.3f}", r["escaped"],
+                          f"{r['settle_s']:.2f} s" if "settle_s" in r else "no"])
         out.append(md_table(["engine", "threads", "ms/step 1st half", "ms/step 2nd half", "max pen / r",
-                             "mean pen / r", "max wall pen / r", "KE (J)", "max speed (m/s)", "escaped"], table))
-        bullet = next((r for r in rs if r["engine"].startswith("bullet")), None)
+                             "mean pen / r", "max wall pen / r", "KE (J)", "max speed (m/s)", "escaped",
+                             "settled at"], table))
         ours = sorted((r for r in rs if r["engine"] == "ballpit"), key=lambda r: r["threads"])
+        unsettled = [f"{r['engine']} ({r['threads']} thread{'s' if r['threads'] > 1 else ''})"
+                     for r in rs if "settle_s" not in r]
+        if unsettled:
+            out.append(f"\nNot settled by the end of the run: {', '.join(unsettled)}. The KE of each is that of "
+                       f"a pile still moving after {steps / 60:.2f} s, not of a settled one.\n")
         if bullet and ours:
             best = ours[-1]
             out.append(f"\nballpit at {best['threads']} threads is "

@@ -36,7 +36,11 @@ def main():
     ap.add_argument("--character", default="")
     ap.add_argument("--md", required=True)
     a = ap.parse_args()
-    rows = load_jsonl(a.jsonl)
+    lines = load_jsonl(a.jsonl)
+    rows = [r for r in lines if "refused" not in r]
+    refused = [r for r in lines if "refused" in r]  # sizes over the memory budget, not run
+    if not rows:
+        raise SystemExit(f"no rows in {a.jsonl}" + (f" (refused: {refused[0]['refused']})" if refused else ""))
     origin = load_origin(a.origin)
     threads = sorted({r["threads"] for r in rows})
     # Rows per (n, mode); the grid dimensions and steps are the same for every thread count.
@@ -90,10 +94,18 @@ def main():
                       " / ".join(frame_ms(o[k]) for k in ("k1", "k6", "k12", "nocol")) if o else ""])
     out.append(md_table(header, table))
     out.append("\n## Extended to 1,000,000 spheres\n")
-    out.append("Rows above 10,000 spheres run fewer steps (column 'steps'; the pit has collapsed "
-               "by step 60 at any n). The naive mode is O(n^2), so it runs only a few steps "
-               "above n = 1,000 and not at all above the largest n given to seed_tables "
-               "(--naive-max); missing cells are runs that were not made, never estimates.\n")
+    grid_steps = {r["spheres"]: r["steps"] for r in rows if r["mode"] == "grid"}
+    small = sorted({s for n, s in grid_steps.items() if n <= 10000})
+    big = sorted({s for n, s in grid_steps.items() if n > 10000})
+    out.append("Steps per row: " + (f"{'/'.join(map(str, small))} up to n = 10,000" if small else "") +
+               (f", **{'/'.join(map(str, big))} above n = 10,000** (shortened, to keep the largest rows "
+                "within minutes; the pit has collapsed by step 60 at any n)" if big else "") +
+               " (`seed_tables --steps`, `--big-steps`; column 'steps'). The naive mode is O(n^2), so it "
+               "runs only a few steps above n = 1,000 and not at all above the largest n given to "
+               "seed_tables (--naive-max); missing cells are runs that were not made, never estimates.\n")
+    if refused:
+        out.append("Not run, over the memory budget (engine/memory_budget.h): " +
+                   "; ".join(f"n = {r['spheres']:,} ({r['refused']})" for r in refused) + ".\n")
     table = []
     for n in [s for s in sizes if s > 400]:
         steps = "; ".join(f"{m} {by[(n, m)]['steps']}" for m in ("grid", "naive", "no-collisions") if (n, m) in by)

@@ -37,7 +37,9 @@ def main():
     ap.add_argument("--md", required=True)
     a = ap.parse_args()
 
-    runs = load_jsonl(a.jsonl)
+    lines = load_jsonl(a.jsonl)
+    runs = [r for r in lines if "refused" not in r]
+    refused = [r for r in lines if "refused" in r]  # over the memory budget: never run
     for r in runs:
         r.setdefault("omp_wait_policy", "default")
     runs.sort(key=lambda r: (r["spheres"], r["threads"], r["omp_wait_policy"]))
@@ -109,6 +111,20 @@ def main():
         f.write("ms/step are medians: 'first half' = pour phase, 'second half' = settled phase of "
                 "each run (SCENES.md splits 600 steps at 300; shorter runs split in halves). "
                 "ns per sphere-step uses the second half. Sleeping off.\n\n")
+        steps = {}
+        for r in runs:
+            steps.setdefault(r["steps"], set()).add(r["spheres"])
+        if len(steps) > 1:
+            most = max(steps, key=lambda k: len(steps[k]))
+            f.write(f"Steps per run: {most}, except " + "; ".join(
+                f"**{k} steps (shortened) at N = {', '.join(f'{n:,}' for n in sorted(v))}**"
+                for k, v in sorted(steps.items()) if k != most) +
+                " (`STEPS`, `BIG_STEPS` and `BIG_FROM` of scripts/profile_scaling.sh).\n\n")
+        elif steps:
+            f.write(f"Steps per run: {next(iter(steps))} at every N.\n\n")
+        if refused:
+            f.write("Not run, over the memory budget (engine/memory_budget.h): " +
+                    "; ".join(f"N = {r['spheres']:,} ({r['refused']})" for r in refused) + ".\n\n")
         f.write(machine_line(runs) + "\n\n")
         f.write("![scaling](scaling.png)\n\n")
         f.write(md_table(["N", "threads", "OpenMP wait", "steps", "ms/step 1st half", "ms/step 2nd half",

@@ -2,19 +2,22 @@
 """Speed-against-error report: reads the JSON lines of profiling/speed_error (one per case and
 solver setting) and writes a CSV, a Pareto plot (cost against error, one panel and one front
 per case, plus all fronts on one normalised panel) and a markdown table that says, per case,
-which settings are on the Pareto front and whether the default is. Run by
-scripts/profile_speed_error.sh."""
+which settings are on the Pareto front, whether the default is, where the tolerance-mode points
+(`--tolerance P`) land against the fixed settings, and why the default is the default
+(speed_error_choice.py). Run by scripts/profile_speed_error.sh."""
 import argparse
 import csv
 import math
 import os
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from report_common import load_jsonl, machine_line, md_table  # noqa: E402
+from speed_error_choice import section as choice_section  # noqa: E402
 
 # Cost is wall time, measured on a shared machine: two costs within this fraction are the same.
 COST_NOISE = 0.10
@@ -35,7 +38,8 @@ DETAILS = {
     "stack": [("drift_r", "drift / r"), ("max_penetration_r", "overlap / r"),
               ("max_wall_penetration_r", "floor overlap / r")],
     "gas": [("energy_drift", "KE drift"), ("max_abs_energy_drift", "worst |KE drift|"), ("escaped", "escaped")],
-    "character": [("balls_inside_colliders", "balls inside (worst step)"), ("max_ball_speed_mps", "top ball speed (m/s)"),
+    "character": [("max_collider_penetration_r", "deepest in a collider / r"),
+                  ("balls_inside_colliders", "balls inside (worst step)"), ("max_ball_speed_mps", "top ball speed (m/s)"),
                   ("max_penetration_r", "ball-ball pen / r"), ("escaped", "escaped")],
     "pour": [("max_penetration_r", "max pen / r"), ("mean_penetration_r", "mean pen / r"),
              ("kinetic_energy_j", "KE end (J)"), ("settle_s", "settle (s)"), ("escaped", "escaped")],
@@ -43,7 +47,19 @@ DETAILS = {
 
 
 def details_for(case):
-    return DETAILS["pour"] if case.startswith("pour") else DETAILS.get(case, [])
+    return (DETAILS["pour"] if case.startswith("pour") else DETAILS.get(case, [])) + \
+        [("max_step_penetration_r", "worst overlap after a step / r")]
+
+
+def is_tolerance(p):
+    """A tolerance-mode point: the substep controller chose its substeps every step."""
+    return "tolerance_r" in p
+
+
+def substeps_cell(p):
+    if is_tolerance(p) and "substeps_mean" in p:
+        return f"{p['substeps_mean']:.1f} ({p['substeps_min']}..{p['substeps_max']})"
+    return fmt(p.get("substeps"))
 
 
 def same_error(a, b):
@@ -69,7 +85,8 @@ def neighbours(default, ps):
         return (same_error(p["error"], default["error"]) and
                 abs(p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] - 1) <= COST_NOISE)
 
-    front = [p for p in ps if p["pareto"] and p["state_hash"] != default["state_hash"] and not equivalent(p)]
+    front = [p for p in ps if p["pareto"] and not is_tolerance(p) and p["state_hash"] != default["state_hash"]
+             and not equivalent(p)]
     cheaper = [p for p in front if p["cost_ms_per_sim_s"] < default["cost_ms_per_sim_s"]]
     dearer = [p for p in front if p["cost_ms_per_sim_s"] >= default["cost_ms_per_sim_s"]]
     lines = []
@@ -85,6 +102,48 @@ def neighbours(default, ps):
                      f"{q['cost_ms_per_sim_s'] / default['cost_ms_per_sim_s'] - 1:.0%} more for an error "
                      f"{max(q['error'], ERROR_FLOOR) / d_err:.3g}x the default's")
     return ("Around the default: " + "; ".join(lines) + ".\n") if lines else ""
+
+
+def mark_fronts(ps):
+    """Fixed settings form the front among themselves (is the default on it?); a tolerance point
+    is on the front when nothing at all dominates it."""
+    fixed = [q for q in ps if not is_tolerance(q)]
+    default = next((q for q in ps if q["point"] == "default"), None)
+    for p in ps:
+        rivals = ps if is_tolerance(p) else fixed
+        p["pareto"] = not any(dominates(q, p) for q in rivals if q is not p)
+        p["cost_vs_default"] = p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] if default else None
+        p["dominates_default"] = bool(default) and p is not default and dominates(p, default)
+
+
+def tolerance_lines(ps, default):
+    """Where each tolerance point lands: what it achieved, what it cost, and against what."""
+    lines = []
+    fixed = [q for q in ps if not is_tolerance(q)]
+    for p in sorted((p for p in ps if is_tolerance(p)), key=lambda p: -p["tolerance_r"]):
+        P = p["tolerance_r"]
+        held = p.get("max_step_penetration_r")
+        text = (f"- `--tolerance {P:g}`: worst overlap after a step {fmt(held)} r "
+                f"({'within' if held is not None and held <= P else 'over'} P"
+                + (f"; {p['steps_over_tolerance']} of {p['steps']} steps over it" if "steps_over_tolerance" in p else "")
+                + f"), substeps {substeps_cell(p)}, error {fmt(p['error'])}")
+        if default:
+            text += f", cost {fmt(p['cost_ms_per_sim_s'] / default['cost_ms_per_sim_s'])}x the default's"
+        beaten = [q["point"] for q in fixed if dominates(q, p)]
+        beats = [q["point"] for q in fixed if dominates(p, q)]
+        text += ("; on the front" if p["pareto"] else "; dominated by " + ", ".join(beaten))
+        if beats:
+            text += "; dominates " + ", ".join(beats)
+        # The cheapest fixed setting whose own worst overlap after a step also stayed within P.
+        also = [q for q in fixed if q.get("max_step_penetration_r") is not None and q["max_step_penetration_r"] <= P]
+        if also:
+            q = min(also, key=lambda q: q["cost_ms_per_sim_s"])
+            text += (f"; the cheapest fixed setting that also kept every step within P is {q['point']} "
+                     f"at {fmt(q['cost_ms_per_sim_s'] / p['cost_ms_per_sim_s'])}x this cost")
+        else:
+            text += "; no fixed setting kept every step within P"
+        lines.append(text + ".")
+    return ("Tolerance mode:\n\n" + "\n".join(lines) + "\n") if lines else ""
 
 
 def fmt(v):
@@ -116,12 +175,19 @@ def main():
     cases.sort(key=lambda c: (CASE_ORDER.index(c) if c in CASE_ORDER else len(CASE_ORDER), c))
 
     by_case = {c: [p for p in points if p["case"] == c] for c in cases}
-    for c, ps in by_case.items():
-        for p in ps:
-            p["pareto"] = not any(dominates(q, p) for q in ps if q is not p)
-            default = next((q for q in ps if q["point"] == "default"), None)
-            p["cost_vs_default"] = p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] if default else None
-            p["dominates_default"] = bool(default) and p is not default and dominates(p, default)
+    for ps in by_case.values():
+        mark_fronts(ps)
+    # Plot-only views: each pour again with the worst overlap after a step as its error, the
+    # quantity --tolerance bounds, so the tolerance points land against what they promise.
+    step_views = {}
+    for c in cases:
+        if c.startswith("pour") and all("max_step_penetration_r" in p for p in by_case[c]):
+            view = [dict(p, error=p["max_step_penetration_r"],
+                         error_metric="worst overlap after a step / r (what --tolerance bounds)") for p in by_case[c]]
+            mark_fronts(view)
+            step_views[c + ", per step"] = view
+    plot_cases = cases + list(step_views)
+    plot_by_case = {**by_case, **step_views}
 
     # CSV: every field of every line, in first-seen order.
     fields = []
@@ -136,23 +202,24 @@ def main():
             w.writerow({k: (";".join(map(str, v)) if isinstance(v, list) else v) for k, v in p.items()})
 
     # Plot: one panel per case, then all fronts normalised by the default.
-    panels = len(cases) + 1
+    panels = len(plot_cases) + 1
     cols = 3
     rows = math.ceil(panels / cols)
     fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 4.2 * rows))
     axes = axes.flatten()
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    overlay = axes[len(cases)]
-    for i, c in enumerate(cases):
+    overlay = axes[len(plot_cases)]
+    for i, c in enumerate(plot_cases):
         ax = axes[i]
-        ps = by_case[c]
+        ps = plot_by_case[c]
         color = colors[i % len(colors)]
-        ax.scatter([p["cost_ms_per_sim_s"] for p in ps], [max(p["error"], ERROR_FLOOR) for p in ps],
+        fixed = [p for p in ps if not is_tolerance(p)]
+        ax.scatter([p["cost_ms_per_sim_s"] for p in fixed], [max(p["error"], ERROR_FLOOR) for p in fixed],
                    s=14, color="0.6", zorder=2)
         # Settings that computed the same state (same hash) are one point of the front: drawn
         # once, at the cheapest run, labelled by the first of them (the default if it is one).
         groups = {}
-        for p in sorted((p for p in ps if p["pareto"]), key=lambda p: (p["point"] != "default",
+        for p in sorted((p for p in fixed if p["pareto"]), key=lambda p: (p["point"] != "default",
                                                                          p["cost_ms_per_sim_s"])):
             groups.setdefault(p["state_hash"], []).append(p)
         front = []
@@ -173,15 +240,36 @@ def main():
             labelled.append((x, y))
             ax.annotate(p["point"], (p["cost_ms_per_sim_s"], max(p["error"], ERROR_FLOOR)), fontsize=6,
                         xytext=(4, 4 if k % 2 == 0 else -9), textcoords="offset points")
+        # Tolerance mode: where it lands against the fixed settings, labelled by P.
+        tol = [p for p in ps if is_tolerance(p)]
+        if tol:
+            ax.scatter([p["cost_ms_per_sim_s"] for p in tol], [max(p["error"], ERROR_FLOOR) for p in tol],
+                       marker="^", s=60, color="black", zorder=5, label="--tolerance P")
+            for p in tol:
+                ax.annotate(f"P={p['tolerance_r']:g}", (p["cost_ms_per_sim_s"], max(p["error"], ERROR_FLOOR)),
+                            fontsize=6, xytext=(4, -10), textcoords="offset points")
+                if c in step_views:  # the bound each one was asked to keep
+                    ax.axhline(p["tolerance_r"], color="black", ls=":", lw=0.6)
         default = next((p for p in ps if p["point"] == "default"), None)
         if default:
             ax.scatter([default["cost_ms_per_sim_s"]], [max(default["error"], ERROR_FLOOR)], marker="*", s=160,
                        color="red", zorder=4, label="default")
+        if default and c in by_case:  # the overlay shows each case once, on its own error
             normalised = [(p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"],
                            max(p["error"], ERROR_FLOOR) / max(default["error"], ERROR_FLOOR)) for p in front]
             overlay.plot([x for x, _ in normalised], [y for _, y in normalised], "o-", color=color, label=c)
+            if tol:
+                overlay.scatter([p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] for p in tol],
+                                [max(p["error"], ERROR_FLOOR) / max(default["error"], ERROR_FLOOR) for p in tol],
+                                marker="^", s=40, color=color, edgecolors="black", zorder=5)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        # Plain numbers on the cost axis: a case spanning less than a decade gets minor labels,
+        # which matplotlib's default writes as overlapping powers of ten.
+        plain = matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}")
+        ax.xaxis.set_major_formatter(plain)
+        ax.xaxis.set_minor_formatter(plain)
+        ax.tick_params(axis="x", which="both", labelsize=6)
         ax.set_title(f"{c}: {ps[0]['error_metric']}", fontsize=8)
         ax.set_xlabel("cost: wall ms per simulated s")
         ax.set_ylabel("error")
@@ -190,7 +278,7 @@ def main():
     overlay.scatter([1], [1], marker="*", s=160, color="red", zorder=4, label="default")
     overlay.set_xscale("log")
     overlay.set_yscale("log")
-    overlay.set_title("all Pareto fronts, relative to each case's default", fontsize=8)
+    overlay.set_title("all Pareto fronts, relative to each case's default (triangles: --tolerance)", fontsize=8)
     overlay.set_xlabel("cost / default cost")
     overlay.set_ylabel("error / default error")
     overlay.grid(True, which="both", alpha=0.3)
@@ -213,7 +301,12 @@ def main():
            f"dearer and clearly more accurate (by more than {ERROR_NOISE:.0%}), or clearly cheaper and "
            "no less accurate; settings that end in the same state hash as another computed the same "
            "thing (the setting did not matter there) and never dominate each other. Bounce, cradle "
-           "and stack are run several times per point and the cheapest run is kept.\n",
+           "and stack are run several times per point and the cheapest run is kept. The front "
+           "of fixed settings decides whether the default is on it; tolerance points "
+           "(`tolerance=P`: `ballpit run --tolerance P`, the substeps chosen every step from the "
+           "default's start, their column showing the mean and range used) are drawn as "
+           "triangles and are on the front when no point at all dominates them. 'worst overlap "
+           "after a step' is what a tolerance bounds, measured the same way for every point.\n",
            machine_line(points) + "\n",
            "![Pareto plot](speed_error.png)\n"]
     default_on_front = {}
@@ -229,7 +322,7 @@ def main():
         rows = []
         for p in ps:
             rows.append([("**default**" if p["point"] == "default" else p["point"])] +
-                        [fmt(p.get(k)) for k, _ in settings] +
+                        [substeps_cell(p) if k == "substeps" else fmt(p.get(k)) for k, _ in settings] +
                         [fmt(p["ms_per_step"]), fmt(p["cost_ms_per_sim_s"]), fmt(p["cost_vs_default"]), fmt(p["error"])] +
                         [fmt(p.get(k)) for k, _ in details_for(c)] +
                         ["yes" if p["pareto"] else "", p["state_hash"]])
@@ -241,6 +334,7 @@ def main():
             out.append(f"Default on the front: **{'yes' if default['pareto'] else 'no'}**" +
                        (f"; dominated by: {', '.join(beaters)}" if beaters else "") + ".\n")
             out.append(neighbours(default, ps))
+        out.append(tolerance_lines(ps, default))
 
     out.append("## Summary: is the default on the Pareto front?\n")
     out.append(md_table(["case", "default on front", "default error", "default cost (ms/sim s)",
@@ -259,6 +353,11 @@ def main():
             better.append(f"{label} ({', '.join(p['case'] for p in runs)})")
     out.append("\nSettings that dominate the default in every case they ran: " +
                (", ".join(better) if better else "none") + ".\n")
+    # The swept cases: those that ran the most fixed settings (pour-big runs only a few).
+    fixed_labels = {c: {p["point"] for p in by_case[c] if not is_tolerance(p)} for c in cases}
+    widest = max((len(v) for v in fixed_labels.values()), default=0)
+    swept = [c for c in cases if len(fixed_labels[c]) == widest]
+    out.append(choice_section(by_case, swept, COST_NOISE, ERROR_FLOOR, md_table, fmt))
     with open(a.md, "w") as f:
         f.write("\n".join(out))
 

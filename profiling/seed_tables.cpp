@@ -5,6 +5,8 @@
 //
 // Each row also gives the grid our engine chose (cells along x, z and y, and the cell size):
 // the original's grid had a fixed k cells per side, ours sizes cells from the largest sphere.
+// A size that would not fit in memory (engine/memory_budget.h) is not run: its line says
+// "refused" and why, and the report lists it.
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
@@ -15,7 +17,9 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "engine/error.h"
 #include "engine/fixed_step_loop.h"
+#include "engine/memory_budget.h"
 #include "engine/pour_scene.h"
 #include "engine/scheduler.h"
 #include "engine/world.h"
@@ -79,19 +83,33 @@ int main(int argc, char** argv) {
   std::size_t naive_max = 100000;
   int steps = 600;
   int big_steps = 60;
+  std::vector<std::size_t> extension = {1000, 10000, 100000, 1000000};
   app.add_option("--threads", threads, "Thread counts, each row runs at every one")->capture_default_str();
   app.add_option("--max-spheres", max_spheres, "Largest n of the extension rows")->capture_default_str();
   app.add_option("--naive-max", naive_max, "Largest n run with the O(n^2) naive narrowphase")->capture_default_str();
   app.add_option("--steps", steps, "Steps per row up to n = 10,000 (600 = the whole pour)")->capture_default_str();
   app.add_option("--big-steps", big_steps, "Steps per row above n = 10,000 (and naive rows above 1,000)")
       ->capture_default_str();
+  app.add_option("--sizes", extension, "The extension rows' n (after the original's 50..400), each up to --max-spheres")
+      ->delimiter(',')
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   std::vector<std::size_t> sizes;
   for (std::size_t n = 50; n <= 400; n += 50) sizes.push_back(n);  // the original rows
-  for (std::size_t n : {1000, 10000, 100000, 1000000})
+  for (std::size_t n : extension)
     if (n <= max_spheres) sizes.push_back(n);
   for (std::size_t n : sizes) {
+    try {
+      refuse_if_too_big(n, "n =");
+    } catch (const Error& e) {
+      nlohmann::ordered_json j;
+      j["spheres"] = n;
+      j["refused"] = e.what();
+      std::cout << j.dump() << std::endl;
+      std::fprintf(stderr, "[seed_tables] n = %zu not run: %s\n", n, e.what());
+      continue;
+    }
     for (Mode mode : {Mode::Grid, Mode::Naive, Mode::NoCollisions}) {
       if (mode == Mode::Naive && n > naive_max) continue;
       int s = n > 10000 ? big_steps : steps;

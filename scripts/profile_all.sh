@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every profiling report, in order (about an hour on 2 cores): per-system benchmarks, scaling,
+# Every profiling report, in order (about two hours on 2 cores): per-system benchmarks, scaling,
 # speed against error, original-report tables, Bullet comparison, trace.
 set -euo pipefail
 dir="$(dirname "$0")"

@@ -1,10 +1,12 @@
 # Shared by scripts/profile_*.sh (sourced, not run): where the tree, the build and the reports
 # are, and how to build only the targets a study needs.
-#   BUILD_DIR  build directory (default: <repo>/build, the README's)
-#   JOBS       parallel build jobs (default: nproc)
+#   BUILD_DIR    build directory (default: <repo>/build, the README's)
+#   REPORTS_DIR  where the reports go (default: <repo>/profiling/reports; a smoke run of a
+#                script at small sizes points it at a temporary folder)
+#   JOBS         parallel build jobs (default: nproc)
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
-REPORTS="$ROOT/profiling/reports"
+REPORTS="${REPORTS_DIR:-$ROOT/profiling/reports}"
 PYTHON=/usr/bin/python3  # Debian's python3 with python3-matplotlib
 mkdir -p "$REPORTS"
 # As scripts/run.sh: OpenMP threads wait passively unless told otherwise, because spinning

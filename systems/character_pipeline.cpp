@@ -33,16 +33,18 @@ Entity add_character(World& world, const CharacterDesc& desc) {
 Entity add_character(World& world, std::shared_ptr<const Model> model, const CharacterDesc& desc) {
   if (!model) throw Error("add_character: no model");
   const Model& m = *model;
-  if (!(desc.height > 0.0f) || !std::isfinite(desc.height))
-    fail(m, "height must be a finite number > 0 m, got " + std::to_string(desc.height));
-  if (!(m.bind_height() > 0.0f)) fail(m, "its bind pose is flat (height 0), so it cannot be scaled to a height");
+  const bool by_scale = desc.scale > 0.0f;
+  if (by_scale ? !std::isfinite(desc.scale) : (!(desc.height > 0.0f) || !std::isfinite(desc.height)))
+    fail(m, by_scale ? "scale must be a finite number > 0, got " + std::to_string(desc.scale)
+                     : "height must be a finite number > 0 m, got " + std::to_string(desc.height));
+  if (!by_scale && !(m.bind_height() > 0.0f)) fail(m, "its bind pose is flat (height 0), so it cannot be scaled to a height");
   if (!all_finite(desc.position) || !std::isfinite(desc.heading)) fail(m, "position and heading must be finite");
   const Vec3 flat(desc.forward.x(), 0.0f, desc.forward.z());
   if (!(flat.norm() > 0.0f) || !all_finite(flat)) fail(m, "forward axis must have a horizontal (x, z) part");
 
   CharacterSetup setup;
   setup.model = model;
-  setup.scale = desc.height / m.bind_height();
+  setup.scale = by_scale ? desc.scale : desc.height / m.bind_height();
   // The pivot is the centre of the bind pose's footprint, at its lowest point.
   setup.pivot = Vec3(0.5f * (m.bind_min.x() + m.bind_max.x()), m.bind_min.y(), 0.5f * (m.bind_min.z() + m.bind_max.z()));
   setup.forward = flat.normalized();

@@ -23,6 +23,7 @@ class World;
 struct CharacterDesc {
   std::string model_path = kDefaultModelPath;
   float height = 1.8f;  // the model is scaled uniformly so its bind pose is this tall (unit: m)
+  float scale = 0.0f;   // model units -> m; when > 0 it replaces `height` (a scene file may give either)
   std::string idle_clip = "Wuson_Bind";
   std::string walk_clip = "Wuson_Walk";
   std::string run_clip = "Wuson_Run";

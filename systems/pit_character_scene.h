@@ -48,4 +48,15 @@ struct PitCharacterScene {
   void start_path(World& world, Entity who) const;
 };
 
+// The rules above for one character in a pit that is already configured (scene files with a
+// character use them too): spawned, the pit widened where its footprint circle would not fit,
+// standing at the back of the room it has, facing +z, lifted so its lowest collider in any
+// pose is `clearance` (unit: m) above the floor. Returns the character.
+Entity spawn_pit_character(World& world, std::shared_ptr<const Model> model, const CharacterDesc& desc,
+                           float clearance);
+
+// Whether a ball of `radius` at p would start inside a joint collider, or within 0.1 radius of
+// one (so none starts in a speculative contact with the character).
+bool inside_character(const World& world, const Vec3& p, float radius);
+
 }  // namespace ballpit

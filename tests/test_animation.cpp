@@ -261,7 +261,9 @@ TEST(Locomotion, PlaybackAtTheGaitRateSlidesTheFeetLeast) {
               run.mean(), 100.0 * run.fraction(), run.max, run.lowest_mean());
   // The floor, measured from the clip at spawn (240 samples a cycle, central differences); the
   // 60 Hz steps see it within 15%.
-  const auto& gaits = CharacterSim().setup().gaits;
+  // A named fixture: a reference into a temporary one would dangle once the statement ends.
+  const CharacterSim spawned;
+  const auto& gaits = spawned.setup().gaits;
   std::printf("[ slip ] the clips' own floor: walk %.0f%%, run %.0f%%\n", 100.0 * gaits[kWalk].slip, 100.0 * gaits[kRun].slip);
   EXPECT_NEAR(walk.fraction(), gaits[kWalk].slip, 0.15 * gaits[kWalk].slip);
   EXPECT_NEAR(run.fraction(), gaits[kRun].slip, 0.15 * gaits[kRun].slip);

@@ -1,0 +1,113 @@
+"""Why the default is the default, from the speed-against-error data: the section of
+speed_error.md that states the rule the defaults are chosen by, applies it to the sweep, and
+says whether the engine's default is the setting the rule picks. Used by plot_speed_error.py.
+
+The rule: among the fixed settings run on every swept case, keep those whose error meets every
+case's accuracy bound (BOUNDS; each says why it is that number), then take the cheapest by the
+geometric mean over the cases of cost / the default's cost. Costs within the cost noise of the
+cheapest are a tie (a shared machine cannot tell them apart), broken by the geometric mean of
+error / the default's error (errors below the floor count as the floor)."""
+import math
+
+# Accuracy bound per case (the error axis of that case) and the reason for it. Cases not listed
+# (or a case whose name starts with a listed prefix, e.g. pour-10k for "pour") have no bound.
+BOUNDS = {
+    "bounce": (0.01, "the apex of each of 3 bounces within 1% of H e^2k"),
+    "cradle": (0.01, "at most 1% of the momentum anywhere but the last ball"),
+    "stack": (0.25, "a 50-ball column sinks, drifts or overlaps by less than a quarter radius in 20 s"),
+    "gas": (0.01, "kinetic energy kept within 1% over 10,000 elastic steps"),
+    "pour": (0.01, "deepest overlap at the end under 1% r, SCENES.md's depth for a ball 'inside'"),
+    "character": (0.1, "no overlap deeper than a tenth of r after any step of the walk: looser than "
+                       "the pour's, which is measured on a settled pile, not while a character pushes"),
+}
+
+
+def bound_for(case, bounds=BOUNDS):
+    for name, value in bounds.items():
+        if case == name or case.startswith(name + "-"):
+            return value
+    return None
+
+
+def geomean(xs):
+    xs = list(xs)
+    return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else float("nan")
+
+
+def choose(by_case, swept_cases, cost_noise, error_floor, bounds=BOUNDS):
+    """Returns (candidates, chosen): candidates are dicts with the setting's label, whether it
+    meets every bound, the cases it fails, and its geometric-mean cost and error relative to the
+    default; chosen is the candidate the rule picks (None if no setting meets every bound)."""
+    defaults = {c: next((p for p in by_case[c] if p["point"] == "default"), None) for c in swept_cases}
+    cases = [c for c in swept_cases if defaults[c]]
+    labels = None
+    for c in cases:
+        here = {p["point"] for p in by_case[c] if "tolerance_r" not in p}
+        labels = here if labels is None else labels & here
+    candidates = []
+    for label in sorted(labels or []):
+        runs = {c: next(p for p in by_case[c] if p["point"] == label) for c in cases}
+        fails = []
+        for c, p in runs.items():
+            b = bound_for(c, bounds)
+            if b and p["error"] > b[0]:
+                fails.append(c)
+        d_cost = {c: defaults[c]["cost_ms_per_sim_s"] for c in cases}
+        candidates.append({
+            "point": label,
+            "meets_all": not fails,
+            "fails": fails,
+            "cost_vs_default": geomean(runs[c]["cost_ms_per_sim_s"] / d_cost[c] for c in cases),
+            "error_vs_default": geomean(max(runs[c]["error"], error_floor) / max(defaults[c]["error"], error_floor)
+                                        for c in cases),
+        })
+    ok = [c for c in candidates if c["meets_all"]]
+    if not ok:
+        return candidates, None
+    cheapest = min(c["cost_vs_default"] for c in ok)
+    tied = [c for c in ok if c["cost_vs_default"] <= cheapest * (1 + cost_noise)]
+    return candidates, min(tied, key=lambda c: (c["error_vs_default"], c["cost_vs_default"]))
+
+
+def section(by_case, swept_cases, cost_noise, error_floor, md_table, fmt, bounds=BOUNDS):
+    """The markdown section: the rule, the bounds, the settings that meet them, the verdict."""
+    candidates, chosen = choose(by_case, swept_cases, cost_noise, error_floor, bounds)
+    out = ["## Why the default is the default\n",
+           "The rule the defaults are chosen by, applied to the runs above: among the fixed "
+           "settings run on every swept case, keep those that meet every case's accuracy bound, "
+           "then take the cheapest by the geometric mean over the cases of cost / the default's "
+           f"cost; settings within {cost_noise:.0%} of the cheapest are a tie (the machine's "
+           "noise), broken by the geometric mean of error / the default's error. Tolerance "
+           "points are not candidates: they are a mode (`--tolerance`), not a setting.\n"]
+    rows = []
+    for c in swept_cases:
+        b = bound_for(c, bounds)
+        rows.append([c, fmt(b[0]) if b else "none", b[1] if b else ""])
+    out.append(md_table(["case", "bound on its error", "why"], rows))
+    if not candidates:
+        out.append("\nNo fixed setting ran on every swept case, so the rule cannot be applied "
+                   "(run the sweep with the default and its variations on every case).\n")
+        return "\n".join(out)
+    rows = []
+    for c in sorted(candidates, key=lambda c: (not c["meets_all"], c["cost_vs_default"])):
+        label = f"**{c['point']}**" if chosen and c["point"] == chosen["point"] else c["point"]
+        rows.append([label, "yes" if c["meets_all"] else "no: " + ", ".join(c["fails"]),
+                     fmt(c["cost_vs_default"]), fmt(c["error_vs_default"])])
+    out.append("\n" + md_table(["setting", "meets every bound", "cost / default (geo. mean)",
+                                "error / default (geo. mean)"], rows))
+    default = next((c for c in candidates if c["point"] == "default"), None)
+    if chosen is None:
+        out.append("\nNo fixed setting meets every bound: the default is a compromise the bounds do "
+                   "not decide" + (f" (it fails: {', '.join(default['fails'])})" if default else "") + ".\n")
+    elif chosen["point"] == "default":
+        out.append("\n**The rule picks the engine's default**: it meets every bound, and no setting "
+                   "that does is cheaper beyond the noise" +
+                   (" or, at a tied cost, more accurate" if len(candidates) > 1 else "") + ".\n")
+    else:
+        verdict = ("it meets every bound too, but " if default and default["meets_all"] else
+                   f"it fails the bound of {', '.join(default['fails'])}, and " if default else "")
+        out.append(f"\n**The rule picks {chosen['point']}, not the engine's default**: {verdict}"
+                   f"{chosen['point']} costs {fmt(chosen['cost_vs_default'])}x the default for "
+                   f"{fmt(chosen['error_vs_default'])}x its error (geometric means). The default "
+                   "should move there unless another case says otherwise.\n")
+    return "\n".join(out)
