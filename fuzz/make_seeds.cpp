@@ -17,7 +17,9 @@
 #include "engine/scheduler.h"
 #include "engine/snapshot.h"
 #include "engine/world.h"
+#include "systems/character_pipeline.h"
 #include "systems/physics_pipeline.h"
+#include "systems/pit_character_scene.h"
 
 namespace fs = std::filesystem;
 using namespace ballpit;
@@ -132,14 +134,34 @@ World tiny_world(bool friction, bool sleeping, bool closed) {
   return w;
 }
 
+// The pit-character scene with a few balls, walking: characters and joint colliders in the
+// snapshot (the model is named, not stored: a restore imports the default character's file).
+World character_world() {
+  World w;
+  PitCharacterScene scene;
+  scene.pour.spheres = 40;
+  scene.start_path(w, scene.build(w));
+  Scheduler scheduler(1);
+  add_character_systems(scheduler, w);
+  add_physics_systems(scheduler, w);
+  FixedStepLoop loop(w, scheduler);
+  for (int s = 0; s < 3; ++s) loop.step();
+  return w;
+}
+
 void snapshot_seeds(const fs::path& dir) {
   save_snapshot(tiny_world(true, false, false), (dir / "spinning.snap").string());
   save_snapshot(tiny_world(false, true, true), (dir / "closed_sleeping.snap").string());
+  save_snapshot(character_world(), (dir / "pit_character.snap").string());
   for (const char* name : {"spinning.snap", "closed_sleeping.snap"}) {
     World w;
     load_snapshot(w, (dir / name).string());
     if (w.contacts.warm.empty()) throw std::runtime_error(std::string(name) + ": no warm-start contacts");
   }
+  World w;
+  load_snapshot(w, (dir / "pit_character.snap").string());
+  if (w.characters.size() != 1 || w.colliders.size() == 0)
+    throw std::runtime_error("pit_character.snap: no character or no joint colliders after loading");
 }
 
 void model_seeds(const fs::path& dir) {

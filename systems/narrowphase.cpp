@@ -97,7 +97,11 @@ struct SlabSearch {
       return;
     }
     float reach = r[i] + grid.max_radius + 2.0f * scratch.margin[i];
-    int span = static_cast<int>(std::ceil(reach / grid.cell_size));
+    // A margin can be huge or infinite (a state of 1e19 m/s, a step of 1e30 s): clamp in float,
+    // before converting, since no search needs more cells than the grid has along an axis.
+    const float cells = std::ceil(reach / grid.cell_size);
+    const int most = std::max(grid.nx, std::max(grid.ny, grid.nz));
+    const int span = cells < static_cast<float>(most) ? static_cast<int>(cells) : most;  // NaN too
     // Searching past the grid is pointless: clamped cells hold everything beyond it.
     int x0 = std::max(cx - span, 0), x1 = std::min(cx + span, grid.nx - 1);
     int z0 = std::max(cz - span, 0), z1 = std::min(cz + span, grid.nz - 1);
