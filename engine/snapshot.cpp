@@ -29,15 +29,6 @@ static_assert(sizeof(Material) == 8, "Material changed: update snapshot.cpp and 
 static_assert(sizeof(Pit) == 20, "Pit changed: update snapshot.cpp and kVersion");
 static_assert(sizeof(SolverSettings) == 40, "SolverSettings changed: update snapshot.cpp and kVersion");
 
-std::uint64_t fnv1a64(std::string_view bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
 void put_material(Writer& w, const Material& m) {
   w.put(m.restitution);
   w.put(m.friction);
@@ -220,7 +211,7 @@ std::string encode_snapshot(const Snapshot& s) {
   header.put(kVersion);
   header.put(std::uint32_t{0});
   header.put(static_cast<std::uint64_t>(payload.size()));
-  header.put(fnv1a64(payload));
+  header.put(snapshot_io::payload_checksum(payload));
   w.out.replace(0, kHeaderBytes, header.out);
   return std::move(w.out);
 }
@@ -250,7 +241,7 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   if (have > payload_bytes)
     fail("has " + std::to_string(have - payload_bytes) + " unexpected bytes after the payload");
   const std::string_view payload = bytes.substr(kHeaderBytes);
-  if (fnv1a64(payload) != checksum) fail("corrupted: the payload checksum does not match the header");
+  if (snapshot_io::payload_checksum(payload) != checksum) fail("corrupted: the payload checksum does not match the header");
 
   Snapshot s;
   Reader r{payload, 0, path};

@@ -19,6 +19,17 @@
 
 namespace ballpit::snapshot_io {
 
+// The header's checksum of the payload: FNV-1a, 64 bit (also used by the snapshot fuzzer to
+// get past the check).
+inline std::uint64_t payload_checksum(std::string_view bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
 static_assert(std::endian::native == std::endian::little, "snapshots are written little-endian");
 static_assert(sizeof(Vec3) == 12 && sizeof(WarmStartEntry) == 20, "stored as raw bytes: no padding");
 static_assert(sizeof(Quat) == 16 && sizeof(Mat4) == 64 && sizeof(Affine3) == 64, "stored as raw bytes: no padding");

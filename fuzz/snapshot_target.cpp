@@ -8,6 +8,7 @@
 
 #include "engine/error.h"
 #include "engine/snapshot.h"
+#include "engine/snapshot_io.h"
 #include "engine/world.h"
 #include "fuzz/fuzz_target.h"
 #include "fuzz/step_world.h"
@@ -19,15 +20,6 @@ namespace {
 constexpr std::size_t kHeaderBytes = 32;
 constexpr std::size_t kPayloadSizeAt = 16;
 constexpr std::size_t kChecksumAt = 24;
-
-std::uint64_t fnv1a64(std::string_view bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
 
 void load_and_step(const ballpit::fuzz::TempFile& file, std::string_view bytes) {
   file.write(bytes);
@@ -50,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::string fixed(in);
     const std::string_view payload = std::string_view(fixed).substr(kHeaderBytes);
     const std::uint64_t payload_bytes = payload.size();
-    const std::uint64_t checksum = fnv1a64(payload);
+    const std::uint64_t checksum = ballpit::snapshot_io::payload_checksum(payload);
     std::memcpy(fixed.data() + kPayloadSizeAt, &payload_bytes, sizeof payload_bytes);
     std::memcpy(fixed.data() + kChecksumAt, &checksum, sizeof checksum);
     if (fixed != in) load_and_step(file, fixed);
