@@ -26,10 +26,16 @@ int main(int argc, char** argv) {
   std::string sphere_mode = "impostor";
   std::string collider_kind = "capsules";
   bool screenshot_given = false;
-  app.add_option("--scene", view.session.scene, "'play' (the pit with the character) or 'pour' (SCENES.md, balls only)")
+  app.add_option("--scene", view.session.scene,
+                 "'play' (the pit with the character), 'pour' (SCENES.md, balls only) or a scene file (.json, see scenes/)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"play", "pour"}));
-  app.add_option("--spheres", view.session.spheres, "Number of balls (default: the scene's; play 40000, pour 10000)")
+      ->check([](const std::string& s) {
+        return s == "play" || s == "pour" || s.ends_with(".json") ? std::string{} : "expected play, pour or a .json scene file";
+      });
+  app.add_option("--set", view.session.set,
+                 "With a scene file: override one of its fields, e.g. --set character.control=player (repeatable)");
+  app.add_option("--spheres", view.session.spheres,
+                 "Number of balls (default: the scene's; play 40000, pour 10000; a file's first population)")
       ->check(CLI::PositiveNumber);
   CLI::Option* colliders = app.add_option("--colliders", collider_kind, "Joint colliders: 'capsules' or 'spheres'")
                                ->capture_default_str()
@@ -100,6 +106,8 @@ int main(int argc, char** argv) {
     view.sphere_mode = ballpit::sphere_mode_from_string(sphere_mode);
     if (colliders->count()) {
       view.session.colliders = collider_kind == "spheres" ? ballpit::ColliderKind::Spheres : ballpit::ColliderKind::Capsules;
+      // A scene file names its character's colliders; the flag overrides that field.
+      if (view.session.uses_scene_file()) view.session.set.push_back("character.colliders=" + collider_kind);
     }
     if (screenshot_given) {
       std::cout << ballpit::run_offscreen(view).dump() << std::endl;

@@ -10,12 +10,22 @@
 #include "engine/error.h"
 #include "systems/character_pipeline.h"
 #include "systems/physics_pipeline.h"
+#include "systems/scene_setup.h"
 
 namespace ballpit {
 
 Session::Session(const SessionOptions& options) : options_(options) {
-  if (options_.scene != "play" && options_.scene != "pour")
-    throw Error("--scene: unknown scene '" + options_.scene + "' (known: play, pour)");
+  if (options_.uses_scene_file()) {
+    // --spheres sets the first population's count, as in `ballpit run`.
+    std::vector<std::string> set = options_.set;
+    if (options_.spheres > 0) set.push_back("populations.0.count=" + std::to_string(options_.spheres));
+    scene_file_ = load_scene(options_.scene, set);
+    options_.spheres = scene_file_->total_spheres();
+  } else if (options_.scene != "play" && options_.scene != "pour") {
+    throw Error("--scene: unknown scene '" + options_.scene + "' (known: play, pour, or a .json scene file)");
+  } else if (!options_.set.empty()) {
+    throw Error("--set: works with a .json scene file (--scene FILE.json)");
+  }
   if (options_.spheres == 0) options_.spheres = options_.scene == "play" ? PlayScene{}.spheres : PourScene{}.spheres;
   threads_ = options_.threads > 0 ? options_.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   omp_set_num_threads(threads_);
@@ -26,10 +36,21 @@ Session::~Session() = default;
 
 void Session::build() {
   world_ = std::make_unique<World>();
-  if (options_.scene == "play") {
+  if (scene_file_) {
+    // The character (if any) starts its path, or waits for the keyboard, at once: the balls
+    // settle around it in view instead of behind a loading pause.
+    const SceneSetup setup = setup_scene(*scene_file_, *world_, model_);
+    if (world_->characters.size() > 0) {
+      model_ = world_->characters.setup(0).model;
+      character_desc_ = character_desc(*scene_file_->character);
+      options_.colliders = character_desc_.colliders;
+      start_scene_path(setup, *world_);
+    }
+  } else if (options_.scene == "play") {
     PlayScene scene;
     scene.spheres = options_.spheres;
     scene.character.colliders = options_.colliders;
+    character_desc_ = scene.character;
     scene.build(*world_, model_);
     model_ = world_->characters.setup(0).model;
   } else {
@@ -157,8 +178,10 @@ void Session::set_collider_kind(ColliderKind kind) {
   World& w = *world_;
   const CharacterSetup old = w.characters.setup(0);
   const CharacterMotion motion = w.characters.motion(0);
-  CharacterDesc desc = PlayScene{}.character;
+  CharacterDesc desc = character_desc_;
   desc.colliders = kind;
+  character_desc_.colliders = kind;
+  if (scene_file_ && scene_file_->character) scene_file_->character->colliders = kind;  // kept by a reset
   // Respawn with the same model: the collider rows are the character's only ones.
   w.entities.destroy(old.entity);
   w.characters.clear();

@@ -8,25 +8,33 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "app/camera.h"
 #include "app/previous_positions.h"
 #include "engine/character.h"
 #include "engine/fixed_step_loop.h"
 #include "engine/pour_scene.h"
+#include "engine/scene_file.h"
 #include "engine/scheduler.h"
 #include "engine/world.h"
+#include "systems/character_pipeline.h"
 
 namespace ballpit {
 
 struct SessionOptions {
-  // "play": the pit with the character (app/play_scene.h); "pour": shared/SCENES.md's pour.
+  // "play": the pit with the character (app/play_scene.h); "pour": shared/SCENES.md's pour;
+  // or a scene file (.json, scenes/README.md), character and all.
   std::string scene = "play";
-  std::size_t spheres = 0;  // 0: the scene's default (play 40,000; pour 10,000)
+  std::vector<std::string> set = {};  // a scene file's field overrides ("a.b=v", engine/scene_file.h)
+  std::size_t spheres = 0;  // 0: the scene's default (play 40,000; pour 10,000; a file's own)
   int threads = 0;          // 0: all hardware threads
-  ColliderKind colliders = ColliderKind::Capsules;
+  ColliderKind colliders = ColliderKind::Capsules;  // play only: a scene file names its own
+
+  bool uses_scene_file() const { return scene.ends_with(".json"); }
 };
 
 // What the renderer needs from a frame of the simulation.
@@ -103,6 +111,8 @@ class Session {
   std::unique_ptr<FixedStepLoop> loop_;
   PreviousPositions* previous_ = nullptr;  // owned by scheduler_
   std::shared_ptr<const Model> model_;     // the character's, imported once per session
+  std::optional<SceneFile> scene_file_;    // read once: a reset rebuilds the same scene
+  CharacterDesc character_desc_;           // how the character was spawned (a collider switch respawns it)
   std::uint64_t version_ = 0;
   std::uint64_t pours_ = 0;
   float fill_height_ = 0.0f;

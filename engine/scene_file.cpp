@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <utility>
@@ -274,6 +275,23 @@ SceneFile builtin_scene(const std::string& name) {
   return s;
 }
 
+namespace {
+
+// A relative model path in a scene file names a file beside the scene, wherever it is run
+// from (a path given by --set stays relative to the working directory, as on a command line).
+void resolve_model_path(Json& j, const std::string& scene_path) {
+  if (!j.is_object()) return;
+  auto character = j.find("character");
+  if (character == j.end() || !character->is_object()) return;
+  auto model = character->find("model");
+  if (model == character->end() || !model->is_string()) return;  // parse_scene names the error
+  const std::filesystem::path given = model->get<std::string>();
+  if (given.empty() || given.is_absolute()) return;
+  *model = (std::filesystem::path(scene_path).parent_path() / given).lexically_normal().string();
+}
+
+}  // namespace
+
 SceneFile load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   Json j;
   std::string source;
@@ -291,6 +309,7 @@ SceneFile load_scene(const std::string& path, const std::vector<std::string>& ov
       // parse_error, and out_of_range for a number beyond double (1e400): both are the file's.
       throw Error(path + ": not valid JSON (" + e.what() + ")");
     }
+    resolve_model_path(j, path);
   }
   if (overrides.empty()) return parse_scene(j, source);
   // Overrides edit the complete scene, so every field is there to be set, defaults included.

@@ -41,7 +41,7 @@ struct ScenePit {
 // The character section: the model, its clips and colliders, and how it moves. Built by the
 // pit-character rules (systems/pit_character_scene.h).
 struct SceneCharacter {
-  std::string model = kDefaultModelPath;  // model file (assimp), relative to the working directory
+  std::string model = kDefaultModelPath;  // model file (assimp); in a file, relative to the file's folder
   float height = 1.8f;  // the bind pose is scaled to this height (unit: m), unless scale is set
   float scale = 0.0f;   // model units -> m; 0: from height
   std::array<std::string, kRoles> clips = {"Wuson_Bind", "Wuson_Walk", "Wuson_Run"};  // idle, walk, run

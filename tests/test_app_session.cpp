@@ -108,6 +108,47 @@ TEST(Session, ResetRebuildsTheSceneButKeepsTheSolverSettingsTheUserChose) {
   EXPECT_EQ(state_hash(s.world()), state_hash(fresh.world()));
 }
 
+// A scene file in the app: its populations, its character (the collider switch survives a
+// reset), --spheres as the first population's count, and errors that name the file.
+TEST(Session, ASceneFileBuildsItsPopulationsAndCharacter) {
+  SessionOptions o;
+  o.scene = BALLPIT_SCENES_DIR "/mixed.json";
+  o.set = {"populations.1.count=40", "populations.2.count=30"};
+  o.spheres = 200;
+  o.threads = 2;
+  Session mixed(o);
+  EXPECT_EQ(mixed.world().spheres.size(), 270u);
+  EXPECT_FALSE(mixed.has_character());
+  mixed.single_step();
+  mixed.reset();
+  EXPECT_EQ(mixed.world().spheres.size(), 270u);
+
+  o.scene = BALLPIT_SCENES_DIR "/pit_character.json";
+  o.set = {"character.control=player"};
+  o.spheres = 300;
+  Session walker(o);
+  ASSERT_TRUE(walker.has_character());
+  const std::size_t balls = walker.world().spheres.size();
+  EXPECT_EQ(balls, 300u);
+  walker.set_character_input(ControllerInput{.forward = 1.0f});
+  for (int i = 0; i < 30; ++i) walker.single_step();
+  EXPECT_GT(walker.character_position().norm(), 0.05f);  // the keyboard drives it
+  walker.set_collider_kind(ColliderKind::Spheres);
+  walker.reset();
+  EXPECT_EQ(walker.world().characters.setup(0).collider_kind, ColliderKind::Spheres);
+  EXPECT_EQ(walker.world().spheres.size(), balls);
+
+  o.set = {"character.colour=3"};
+  try {
+    Session bad(o);
+    ADD_FAILURE() << "an unknown field was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pit_character.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("character.colour"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Session(SessionOptions{.scene = "pour", .set = {"steps=3"}}), Error);  // --set needs a file
+}
+
 TEST(Session, OutOfRangeSettingsAreRefusedWithTheirName) {
   Session s(pour(100));
   EXPECT_THROW(s.set_restitution(1.5f), Error);

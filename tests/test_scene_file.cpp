@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <string>
@@ -494,4 +496,21 @@ TEST(SceneFile, BuildingASceneAppliesItsSolverAndGravity) {
 TEST(SceneFile, AMissingOrBrokenFileIsRefusedByName) {
   EXPECT_NE(error_of([] { load_scene("/nonexistent/scene.json"); }).find("/nonexistent/scene.json: cannot open"),
             std::string::npos);
+}
+
+TEST(SceneFile, ARelativeModelPathIsFoundBesideTheSceneFile) {
+  // A scene folder with its own model, read from another working directory.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ballpit_scene_model_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "models");
+  std::filesystem::copy_file(kDefaultModelPath, dir / "models" / "walker.X");
+  std::ofstream(dir / "walker.json") << R"({"character": {"model": "models/walker.X"}})";
+  const SceneFile s = load_scene((dir / "walker.json").string());
+  ASSERT_TRUE(s.character);
+  EXPECT_EQ(s.character->model, (dir / "models" / "walker.X").string());
+  // From the command line a relative path stays the working directory's: here, none.
+  const std::string m = error_of([&] { load_scene((dir / "walker.json").string(), {"character.model=models/walker.X"}); });
+  EXPECT_NE(m.find("character.model: expected an existing model file, 'models/walker.X' does not exist"), std::string::npos)
+      << m;
+  std::filesystem::remove_all(dir);
 }
