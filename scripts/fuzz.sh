@@ -4,6 +4,8 @@
 # UndefinedBehaviorSanitizer in build-fuzz/, writes seed corpora made by the engine itself,
 # then runs each target for a bounded time.
 # Usage: scripts/fuzz.sh [seconds-per-target]   (default 60; CI runs it briefly)
+#        BALLPIT_FUZZ_SEED=N fixes libFuzzer's seed (default 0: a fresh one each run; the test
+#        suite fixes it)
 #
 # A finding (a crash, a hang, a sanitizer report, an exception other than ballpit::Error) is
 # saved under build-fuzz/run/findings/<target>/ and the script fails at the end. To keep one:
@@ -13,6 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
+seed="${BALLPIT_FUZZ_SEED:-0}"
 bash scripts/setup.sh
 targets=(scene_file snapshot model_import)
 
@@ -55,7 +58,7 @@ for t in "${targets[@]}"; do
   # (libFuzzer's default, written out). The temp files of fuzz/fuzz_target.h go to $run/tmp.
   rc=0
   TMPDIR="$run/tmp" LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp" \
-    "build-fuzz/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    "build-fuzz/fuzz/fuzz_$t" -seed="$seed" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$run/findings/$t/" "${!mode}" \
     "$run/corpus/$t" "$run/seeds/$t" "tests/fuzz_regressions/$t" >"$run/$t.log" 2>&1 || rc=$?
   # Fork mode exits with the status of the last worker to end, even an ignored one: 71 is

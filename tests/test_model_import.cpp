@@ -197,6 +197,26 @@ TEST(ModelImportErrors, ATruncatedFileIsRejected) {
   }
 }
 
+// Debian's assimp keeps its internal assertions, which abort the process; this fuzz-found .X
+// file fails one in the triangulation. It must be refused like any other bad file.
+TEST(ModelImportErrors, AFileFailingAnAssimpInternalCheckIsRefusedNotFatal) {
+  const std::string path = std::string(BALLPIT_SOURCE_DIR) + "/tests/fuzz_regressions/model_import/triangulation_count_assert.x";
+  const std::string msg = import_error(path);
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+  EXPECT_NE(msg.find("assimp cannot read it: an internal check failed"), std::string::npos) << msg;
+}
+
+// And this one makes assimp's .X parser follow a null pointer: caught by reading it in a child
+// process first.
+TEST(ModelImportErrors, AFileThatCrashesAssimpIsRefusedNotFatal) {
+  const std::string path = std::string(BALLPIT_SOURCE_DIR) + "/tests/fuzz_regressions/model_import/null_pointer_in_x_parser.x";
+  const std::string msg = import_error(path);
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+  // "(Segmentation fault)"; under AddressSanitizer, which ends the child itself, "(exit status 1)".
+  EXPECT_NE(msg.find("assimp crashed reading it ("), std::string::npos) << msg;
+  EXPECT_NE(msg.find("): the file is damaged"), std::string::npos) << msg;
+}
+
 TEST(ModelImportErrors, AMeshWithoutBonesHasNoSkeleton) {
   TempDir dir;
   const std::filesystem::path path = dir.path / "triangle.obj";
