@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <sstream>
+#include <unordered_map>
 
 #include "engine/error.h"
 #include "engine/world.h"
@@ -114,6 +116,49 @@ Lattice lattice_of(const Population& pop, const World& world, float top) {
   return l;
 }
 
+// The spheres already in the world, hashed by cell. A box population may reach into the
+// populations placed before it (a lattice stacks above everything below, a box goes where it is
+// told), so its lattice points skip any sphere they would overlap.
+class PlacedSpheres {
+ public:
+  explicit PlacedSpheres(const World& world) : x_(world.spheres.position()), r_(world.spheres.radius()) {
+    for (float r : r_) largest_ = std::max(largest_, r);
+    cell_ = 2.0f * largest_;
+    for (std::uint32_t i = 0; i < x_.size(); ++i) cells_[key(cell_of(x_[i]))].push_back(i);
+  }
+
+  bool overlaps(const Vec3& p, float r) const {
+    if (cells_.empty()) return false;
+    const Eigen::Vector3i c = cell_of(p);
+    const int reach = static_cast<int>(std::ceil((r + largest_) / cell_));
+    for (int dx = -reach; dx <= reach; ++dx)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dz = -reach; dz <= reach; ++dz) {
+          auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == cells_.end()) continue;
+          for (std::uint32_t i : it->second) {
+            const float touch = r + r_[i];
+            if ((x_[i] - p).squaredNorm() < touch * touch) return true;
+          }
+        }
+    return false;
+  }
+
+ private:
+  Eigen::Vector3i cell_of(const Vec3& p) const { return (p / cell_).array().floor().cast<int>(); }
+  // 21 bits a coordinate: a pit spans far fewer cells than 2^21 in any direction.
+  static std::uint64_t key(const Eigen::Vector3i& c) {
+    auto bits = [](int v) { return static_cast<std::uint64_t>(v + (1 << 20)) & 0x1fffffu; };
+    return bits(c.x()) | bits(c.y()) << 21 | bits(c.z()) << 42;
+  }
+
+  std::span<const Vec3> x_;
+  std::span<const float> r_;
+  float largest_ = 0.0f;
+  float cell_ = 1.0f;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
 void apply_colors(const Population& pop, std::uint64_t first_index, std::vector<SphereDesc>& batch) {
   const ColorScheme& c = pop.color;
   float lo = pop.radius.smallest(), hi = pop.radius.largest();
@@ -189,14 +234,18 @@ std::size_t add_populations(World& world, std::span<const Population> population
     std::mt19937 rng(seed ^ (static_cast<std::uint32_t>(k) * 0x9E3779B9u));
     const float r_max = pop.radius.largest();
     const Lattice l = lattice_of(pop, world, top);
+    std::optional<PlacedSpheres> placed;
+    if (pop.placement.kind == Placement::Kind::Box && world.spheres.size() > 0) placed.emplace(world);
+    std::size_t taken = 0;  // lattice points of the box that earlier spheres occupy
     batch.clear();
     batch.reserve(pop.count);
     for (int layer = 0; batch.size() < pop.count; ++layer) {
       const float y = l.y0 + l.spacing * static_cast<float>(layer);
       if (pop.placement.kind == Placement::Kind::Box && layer >= l.ny) {
         throw Error(field + ".placement: the box holds only " + std::to_string(batch.size()) + " of the " +
-                    std::to_string(pop.count) + " spheres (lattice spacing " + text(l.spacing) +
-                    " m); expected a larger box or a smaller count");
+                    std::to_string(pop.count) + " spheres (lattice spacing " + text(l.spacing) + " m" +
+                    (taken ? ", " + std::to_string(taken) + " points taken by earlier populations" : "") +
+                    "); expected a larger box or a smaller count");
       }
       if (y + r_max > world.pit.wall_height) {
         throw Error(field + ".count: only " + std::to_string(batch.size()) + " of the " + std::to_string(pop.count) +
@@ -209,6 +258,10 @@ std::size_t add_populations(World& world, std::span<const Population> population
           for (int a = 0; a < 3; ++a) p[a] += (2.0f * uniform01(rng) - 1.0f) * l.jitter;
           const float r = draw_radius(pop.radius, rng);
           if (keep_clear && keep_clear(p, r)) continue;
+          if (placed && placed->overlaps(p, r)) {
+            ++taken;
+            continue;
+          }
           SphereDesc d;
           d.position = p;
           d.radius = r;

@@ -478,6 +478,34 @@ TEST(SceneFile, MixedPopulationsFollowTheirDescriptions) {
   EXPECT_EQ(overlapping, 0u);
 }
 
+// A box may reach into what was placed before it: its lattice points skip those spheres, and a
+// box left too little room says how much the earlier populations took.
+TEST(SceneFile, ABoxPopulationSkipsTheSpheresPlacedBeforeIt) {
+  const Json j = Json::parse(R"({
+    "pit": {"half_width": 0.6, "wall_height": 3.0},
+    "populations": [
+      {"count": 600},
+      {"count": 300, "radius": 0.03, "placement": {"kind": "box", "min": [-0.6, 0.0, -0.6], "max": [0.6, 0.9, 0.6]}}
+    ]})");
+  World w;
+  build_scene(parse_scene(j, "box.json"), w);
+  ASSERT_EQ(w.spheres.size(), 900u);
+  auto x = w.spheres.position();
+  auto r = w.spheres.radius();
+  std::size_t overlapping = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j2 = i + 1; j2 < x.size(); ++j2)
+      if ((x[i] - x[j2]).squaredNorm() < (r[i] + r[j2]) * (r[i] + r[j2])) ++overlapping;
+  EXPECT_EQ(overlapping, 0u);
+
+  Json full = j;
+  full["populations"][1]["count"] = 4000;  // of the 4,212 points of its lattice
+  World w2;
+  const std::string m = error_of([&] { build_scene(parse_scene(full, "box.json"), w2); });
+  EXPECT_NE(m.find("box.json: populations.1.placement: the box holds only"), std::string::npos) << m;
+  EXPECT_NE(m.find("points taken by earlier populations"), std::string::npos) << m;
+}
+
 TEST(SceneFile, BuildingASceneAppliesItsSolverAndGravity) {
   SceneFile s = load_scene("", {"populations.0.count=300", "solver.substeps=5", "features.sleeping=true", "gravity=[0,-5,0]",
                                 "dt=0.01"});
