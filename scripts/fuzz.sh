@@ -45,7 +45,6 @@ cp /usr/share/assimp/models/X/test_cube_text.x /usr/share/assimp/models/X/test_c
 # there is assimp's leak, ignored); crashes, hangs and sanitizer reports still fail the run.
 # The other targets leak nothing: any leak there is a finding.
 mode_model_import=(-fork=1 -ignore_ooms=1 -ignore_timeouts=0 -ignore_crashes=0 -detect_leaks=0)
-declare -A mode_fork=([model_import]=1)
 mode_scene_file=()
 mode_snapshot=()
 
@@ -64,7 +63,7 @@ for t in "${targets[@]}"; do
   # Fork mode exits with the status of the last worker to end, even an ignored one: 71 is
   # libFuzzer's out-of-memory status. That is no finding while its final count shows no
   # timeouts and no crashes ("oom/timeout/crash: N/0/0").
-  if ((rc == 71)) && [[ -n "${mode_fork[$t]:-}" ]] &&
+  if ((rc == 71)) && [[ " ${!mode} " == *" -fork=1 "* ]] &&
       grep -E '^#[0-9]+:' "$run/$t.log" | tail -n 1 | grep -qE 'oom/timeout/crash: [0-9]+/0/0'; then
     rc=0
   fi

@@ -138,6 +138,17 @@ void overrides_for(const Json& j, const std::string& path, std::vector<std::stri
   }
 }
 
+// Pairs of spheres that overlap, by checking every pair (the worlds here are small).
+std::size_t overlapping_pairs(const World& w) {
+  auto x = w.spheres.position();
+  auto r = w.spheres.radius();
+  std::size_t overlapping = 0;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i + 1; j < x.size(); ++j)
+      if ((x[i] - x[j]).squaredNorm() < (r[i] + r[j]) * (r[i] + r[j])) ++overlapping;
+  return overlapping;
+}
+
 std::string error_of(const std::function<void()>& f) {
   try {
     f();
@@ -469,13 +480,7 @@ TEST(SceneFile, MixedPopulationsFollowTheirDescriptions) {
     first += p.count;
   }
   // No two spheres start overlapping, whatever their radii (all pairs: 5,800 spheres).
-  auto x = w.spheres.position();
-  auto r = w.spheres.radius();
-  std::size_t overlapping = 0;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    for (std::size_t j = i + 1; j < x.size(); ++j)
-      if ((x[i] - x[j]).squaredNorm() < (r[i] + r[j]) * (r[i] + r[j])) ++overlapping;
-  EXPECT_EQ(overlapping, 0u);
+  EXPECT_EQ(overlapping_pairs(w), 0u);
 }
 
 // A box may reach into what was placed before it: its lattice points skip those spheres, and a
@@ -490,13 +495,7 @@ TEST(SceneFile, ABoxPopulationSkipsTheSpheresPlacedBeforeIt) {
   World w;
   build_scene(parse_scene(j, "box.json"), w);
   ASSERT_EQ(w.spheres.size(), 900u);
-  auto x = w.spheres.position();
-  auto r = w.spheres.radius();
-  std::size_t overlapping = 0;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    for (std::size_t j2 = i + 1; j2 < x.size(); ++j2)
-      if ((x[i] - x[j2]).squaredNorm() < (r[i] + r[j2]) * (r[i] + r[j2])) ++overlapping;
-  EXPECT_EQ(overlapping, 0u);
+  EXPECT_EQ(overlapping_pairs(w), 0u);
 
   Json full = j;
   full["populations"][1]["count"] = 4000;  // of the 4,212 points of its lattice
