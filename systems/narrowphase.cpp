@@ -32,11 +32,15 @@ struct SlabSearch {
     return nullptr;
   }
 
-  Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w) const {
+  // `reversed`: the cached contact had a and b the other way round (row order decides which
+  // sphere generates a pair, and rows are re-sorted every step), so its friction impulse, which
+  // acts on a as -F and on b as +F, changes sign. The normal impulse is along a -> b either way.
+  Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w,
+               bool reversed = false) const {
     Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f, false};
     if (w) {
       c.normal_impulse = w->normal_impulse;
-      c.friction_impulse = w->friction_impulse;
+      c.friction_impulse = reversed ? Vec3(-w->friction_impulse) : w->friction_impulse;
       c.loaded_last_step = w->normal_impulse > 0.0f;
     }
     return c;
@@ -45,13 +49,14 @@ struct SlabSearch {
   void add_pair(std::uint32_t i, std::uint32_t j, int slab, SlabContacts& out) const {
     const Material& m = pair_material[material[i] * material_count + material[j]];
     const WarmStartEntry* w = nullptr;
+    bool reversed = false;
     if (!new_to_old.empty()) {
       w = warm(new_to_old[i], entity[j]);
-      if (!w) w = warm(new_to_old[j], entity[i]);
+      if (!w) reversed = (w = warm(new_to_old[j], entity[i])) != nullptr;
     }
     int sj = slab_of(j);
     auto& list = (sj == slab || sj == slab + 1) ? out.pairs : out.serial;
-    list.push_back(make(i, j, m, w));
+    list.push_back(make(i, j, m, w, reversed));
   }
 
   bool touching_soon(std::uint32_t i, std::uint32_t j) const {

@@ -132,3 +132,40 @@ TEST(Narrowphase, LastStepsImpulsesFollowTheirPairAcrossAReorder) {
     }
   EXPECT_EQ(carried, before.size());
 }
+
+TEST(Narrowphase, AnImpulseCachedByThePartnerIsTurnedToTheNewContactsSide) {
+  // Row order decides which sphere of a pair generates its contact, and rows are re-sorted every
+  // step, so last step's contact may have had a and b the other way round. Its friction impulse
+  // acted on its a as -F and on its b as +F; the new contact must apply the same pushes.
+  test::Sim s;
+  test::make_pit(s.world, 0.5f, 0.0f, 0.5f);
+  test::add_ball(s.world, Vec3(-0.0399f, 0.04f, 0.0f));
+  test::add_ball(s.world, Vec3(0.0399f, 0.04f, 0.0f));
+  GridSystem grid;
+  grid.run(s.world);
+  NarrowphaseScratch scratch;
+  find_contacts(s.world, scratch);
+  std::vector<Contact> pairs;
+  for (const SlabContacts& sl : s.world.contacts.slabs)
+    for (const auto* list : {&sl.pairs, &sl.serial}) pairs.insert(pairs.end(), list->begin(), list->end());
+  ASSERT_EQ(pairs.size(), 1u);
+  const std::uint32_t a = pairs[0].a, b = pairs[0].b;
+
+  // The cache as the partner's contact would have left it: under b's row, naming a's entity.
+  const Vec3 on_cached_b(0.0f, 0.001f, 0.002f);  // pushed a (the cached contact's b) this way
+  ContactSet& cs = s.world.contacts;
+  cs.warm_begin.assign(s.world.spheres.size() + 1, 0);
+  for (std::size_t k = b + 1; k < cs.warm_begin.size(); ++k) cs.warm_begin[k] = 1;
+  cs.warm = {{s.world.spheres.entity_index()[a], 0.01f, on_cached_b}};
+
+  grid.run(s.world);  // nothing moved: the rows stay as they are
+  find_contacts(s.world, scratch);
+  pairs.clear();
+  for (const SlabContacts& sl : s.world.contacts.slabs)
+    for (const auto* list : {&sl.pairs, &sl.serial}) pairs.insert(pairs.end(), list->begin(), list->end());
+  ASSERT_EQ(pairs.size(), 1u);
+  ASSERT_EQ(pairs[0].a, a) << "the test needs the same generating row as before";
+  EXPECT_EQ(pairs[0].normal_impulse, 0.01f);
+  // The new contact pushes its a by -friction_impulse: the same push a had before.
+  EXPECT_TRUE(pairs[0].friction_impulse.isApprox(-on_cached_b)) << pairs[0].friction_impulse.transpose();
+}
