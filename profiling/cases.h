@@ -10,9 +10,11 @@
 //   stack    max(drift, overlap, floor overlap) of a 50-sphere column after 20 s, / r
 //   pour     max sphere-sphere penetration at the end of the 10 s pour, / r
 //   gas      |KE(10,000 steps) / KE(0) - 1| of 2,000 elastic spheres in a closed box, no gravity
+//   crowd    max over 5 s of the top ball speed / (push-out cap + g t), 1,000 spheres spawned in a
+//            tenth of the room they need: above 1, push-out became real speed (an explosion)
 //   character  deepest overlap after a step (ball-ball, wall, joint collider) / r, worst step of
 //            the pit-character path
-// Every point also records max_step_penetration_r, the worst overlap after any timed step as
+// Every point also records max_step_penetration_r (and its mean over the steps), the worst overlap after any timed step as
 // the substep controller measures it (systems/substep_control.h): what a tolerance point
 // promises to bound, so tolerance and fixed points compare on it too.
 #pragma once
@@ -67,7 +69,7 @@ std::vector<SolverPoint> big_pour_points();
 // a 1-thread run is the one a shared machine disturbs least (a 2-thread run loses whole time
 // slices at every barrier whenever another process holds the other core).
 struct CaseOptions {
-  int threads = 1;        // gas, pour, character
+  int threads = 1;        // gas, crowd, pour, character
   int small_threads = 1;  // bounce, cradle, stack: 1 to 50 spheres
   std::size_t pour_spheres = 10000;
   std::size_t character_spheres = 5000;
@@ -82,6 +84,7 @@ nlohmann::ordered_json run_cradle(const SolverPoint& p, const CaseOptions& o);
 nlohmann::ordered_json run_stack(const SolverPoint& p, const CaseOptions& o);
 nlohmann::ordered_json run_pour(const SolverPoint& p, const CaseOptions& o);
 nlohmann::ordered_json run_gas(const SolverPoint& p, const CaseOptions& o);
+nlohmann::ordered_json run_crowd(const SolverPoint& p, const CaseOptions& o);
 // pit-character (shared/SCENES.md) at CaseOptions::character_spheres: settled untimed, then the
 // 10 s scripted path timed.
 nlohmann::ordered_json run_character(const SolverPoint& p, const CaseOptions& o);

@@ -28,15 +28,15 @@ std::set<std::string> split(const std::string& s) {
 
 int main(int argc, char** argv) {
   CLI::App app{"Speed against error: sweep solver settings over the reference cases"};
-  std::string cases = "bounce,cradle,stack,gas,pour,character,pour-big";
+  std::string cases = "bounce,cradle,stack,gas,crowd,pour,character,pour-big";
   std::string points;
   CaseOptions options;
   std::size_t big_spheres = 100000;
   bool list = false;
   int small_repeats = 5;
-  app.add_option("--cases", cases, "Cases to run, comma-separated: bounce,cradle,stack,gas,pour,character,pour-big")->capture_default_str();
+  app.add_option("--cases", cases, "Cases to run, comma-separated: bounce,cradle,stack,gas,crowd,pour,character,pour-big")->capture_default_str();
   app.add_option("--points", points, "Only these sweep points (labels, comma-separated; default: all)");
-  app.add_option("--threads", options.threads, "Threads for the gas, the pours and the character (results do not depend on it)")->capture_default_str()->check(CLI::Range(1, 256));
+  app.add_option("--threads", options.threads, "Threads for the gas, the crowd, the pours and the character (results do not depend on it)")->capture_default_str()->check(CLI::Range(1, 256));
   app.add_option("--small-threads", options.small_threads, "Threads for bounce, cradle and stack (1 to 50 spheres)")
       ->capture_default_str()
       ->check(CLI::Range(1, 256));
@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
   using Runner = nlohmann::ordered_json (*)(const SolverPoint&, const CaseOptions&);
   const std::pair<const char*, Runner> runners[] = {
       {"bounce", run_bounce}, {"cradle", run_cradle}, {"stack", run_stack},
-      {"gas", run_gas},       {"pour", run_pour},     {"character", run_character}};
+      {"gas", run_gas},       {"crowd", run_crowd},   {"pour", run_pour},
+      {"character", run_character}};
 
   try {
     for (const auto& [name, runner] : runners) {
