@@ -462,14 +462,21 @@ nlohmann::ordered_json run_character(const SolverPoint& p, const CaseOptions& o)
   // The scripted path is 10 s (3 s walk, 2 s turning, 3 s run, 2 s idle).
   const int steps = steps_for(10.0, p.dt);
   ColliderOverlap worst;
+  ColliderMotion limbs_over_run;
   double fastest = 0.0;
   for (int s = 0; s < steps; ++s) {
     run.step();
     const ColliderOverlap now = measure_collider_overlap(w);
     worst.max_depth_r = std::max(worst.max_depth_r, now.max_depth_r);
     worst.inside = std::max(worst.inside, now.inside);
+    const ColliderMotion limbs = measure_collider_motion(w);
+    limbs_over_run.fastest = std::max(limbs_over_run.fastest, limbs.fastest);
+    limbs_over_run.highest = std::max(limbs_over_run.highest, limbs.highest);
     for (const Vec3& v : w.spheres.velocity()) fastest = std::max(fastest, static_cast<double>(v.norm()));
   }
+  float restitution = 0.0f;  // the bounciest material: the bound must hold for every pair
+  for (const Material& mat : w.materials) restitution = std::max(restitution, mat.restitution);
+  const double speed_bound = struck_ball_speed_bound(limbs_over_run, restitution, w.solver.push_out_speed, w.gravity().norm());
   Metrics m = measure(w);
   auto j = head("character", p, w, run, o.threads);
   // The deepest ball inside a collider alone does not tell settings apart (the first sweep
@@ -480,6 +487,10 @@ nlohmann::ordered_json run_character(const SolverPoint& p, const CaseOptions& o)
   j["max_collider_penetration_r"] = worst.max_depth_r;
   j["balls_inside_colliders"] = worst.inside;
   j["max_ball_speed_mps"] = fastest;
+  // tests/test_character_pushing.cpp's bound: above it, a ball left faster than a strike by the
+  // fastest limb, plus push-out and a fall from the character's top, can send it.
+  j["ball_speed_bound_mps"] = speed_bound;
+  j["ball_speed_vs_bound"] = fastest / speed_bound;
   j["max_penetration_r"] = m.max_penetration_r;
   j["escaped"] = m.escaped;
   j["state_hash"] = hash_hex(state_hash(w));

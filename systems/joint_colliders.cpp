@@ -175,4 +175,23 @@ ColliderOverlap measure_collider_overlap(const World& world, float depth_fractio
   return out;
 }
 
+ColliderMotion measure_collider_motion(const World& world) {
+  ColliderMotion out;
+  const ColliderTable& c = world.colliders;
+  const float dt = world.step();
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    out.fastest = std::max({out.fastest, static_cast<double>(c.velocity_a()[k].norm()),
+                            static_cast<double>(c.velocity_b()[k].norm())});
+    const float top = std::max(c.a()[k].y() + c.velocity_a()[k].y() * dt, c.b()[k].y() + c.velocity_b()[k].y() * dt);
+    out.highest = std::max(out.highest, static_cast<double>(top + c.radius()[k]));
+  }
+  return out;
+}
+
+double struck_ball_speed_bound(const ColliderMotion& over_the_run, float restitution, float push_out_speed,
+                               float gravity) {
+  const double strike = (1.0 + restitution) * over_the_run.fastest + push_out_speed;
+  return std::sqrt(strike * strike + 2.0 * static_cast<double>(gravity) * over_the_run.highest);
+}
+
 }  // namespace ballpit

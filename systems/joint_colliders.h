@@ -58,4 +58,18 @@ struct ColliderOverlap {
 inline constexpr float kInsideDepthFraction = 0.01f;
 ColliderOverlap measure_collider_overlap(const World& world, float depth_fraction = kInsideDepthFraction);
 
+// How fast and how high the colliders move: the inputs of the struck-ball bound below.
+struct ColliderMotion {
+  double fastest = 0.0;  // fastest collider end this step (unit: m/s)
+  double highest = 0.0;  // highest collider surface at the step's end (unit: m)
+};
+ColliderMotion measure_collider_motion(const World& world);
+
+// The fastest a ball may leave a character (unit: m/s). One strike by an infinite mass moving at
+// v_c sends a ball off at most at (1 + e) v_c; overlap adds at most the push-out speed; from at
+// most the top of the character it can then gain only what falling gives:
+// v^2 <= ((1 + e) v_c + push)^2 + 2 g h.
+double struck_ball_speed_bound(const ColliderMotion& over_the_run, float restitution, float push_out_speed,
+                               float gravity);
+
 }  // namespace ballpit

@@ -142,19 +142,14 @@ PitRun run_pit_character(std::size_t balls, int settle_steps, int path_steps, in
   out.settled_speed = measure(world).max_speed_mps;
   scene.start_path(world, character);
   FixedStepLoop loop(world, scheduler);
-  const float dt = world.step();
   for (int s = 0; s < path_steps; ++s) {
     loop.step();
     const ColliderOverlap o = measure_collider_overlap(world);
     out.deepest_r = std::max(out.deepest_r, o.max_depth_r);
     out.most_inside = std::max(out.most_inside, o.inside);
-    const ColliderTable& c = world.colliders;
-    for (std::size_t k = 0; k < c.size(); ++k) {
-      out.fastest_collider = std::max({out.fastest_collider, static_cast<double>(c.velocity_a()[k].norm()),
-                                       static_cast<double>(c.velocity_b()[k].norm())});
-      const float top = std::max(c.a()[k].y() + c.velocity_a()[k].y() * dt, c.b()[k].y() + c.velocity_b()[k].y() * dt);
-      out.highest_collider = std::max(out.highest_collider, static_cast<double>(top + c.radius()[k]));
-    }
+    const ColliderMotion motion = measure_collider_motion(world);
+    out.fastest_collider = std::max(out.fastest_collider, motion.fastest);
+    out.highest_collider = std::max(out.highest_collider, motion.highest);
     double fastest = 0.0;
     std::size_t escaped = 0;
     auto x = world.spheres.position();
@@ -176,14 +171,9 @@ TEST(PitCharacter, TenThousandBallsArePushedAsideAndNoneIsLeftInsideOrEscapes) {
   // settled from its step 300), then the full 10 s path: walk, walk turning left (90 deg/s),
   // run, idle.
   const PitRun run = run_pit_character(10000, PitCharacterScene{}.settle_steps, 600, 2);
-  const float e = 0.5f;       // pair restitution of ball and collider (both materials 0.5)
-  const float g = 9.81f;      // (unit: m/s^2)
-  const float push = 1.0f;    // SolverSettings::push_out_speed: overlapping balls part this fast
-  // Fastest-ball bound. One strike by an infinite mass moving at v_c sends a ball off at most at
-  // (1 + e) v_c; soft contacts may add the push-out speed; from at most the top of the
-  // character it can then gain only what falling gives: v^2 <= ((1 + e) v_c + push)^2 + 2 g h.
-  const double strike = (1.0 + e) * run.fastest_collider + push;
-  const double bound = std::sqrt(strike * strike + 2.0 * g * run.highest_collider);
+  const float e = 0.5f;     // pair restitution of ball and collider (both materials 0.5)
+  const float push = SolverSettings{}.push_out_speed;
+  const double bound = struck_ball_speed_bound({run.fastest_collider, run.highest_collider}, e, push, 9.81f);
   std::printf("[ pit ] settled at %.4f m/s; deepest inside a collider %.2e r, most balls inside %zu, escaped %zu\n",
               run.settled_speed, run.deepest_r, run.most_inside, run.escaped);
   std::printf("[ pit ] fastest collider %.2f m/s, top %.2f m; fastest ball %.2f m/s (bound %.2f m/s)\n",
