@@ -365,40 +365,55 @@ nlohmann::ordered_json run_pour(const SolverPoint& p, const CaseOptions& o) {
 
 nlohmann::ordered_json run_crowd(const SolverPoint& p, const CaseOptions& o) {
   // The hard case of tests/test_hard_cases.cpp: 1,000 spheres spawned at random in a tenth of
-  // the room they need, a cube at the pit's centre, left to separate for 5 s.
+  // the room they need, a cube at the pit's centre, left to separate for 5 s. One random crowd
+  // says little (which ball gets squeezed out, and how fast, changes with the spawn: at one
+  // setting, one seed stays under the bound and another exceeds it by 2.8 m/s), so each point
+  // runs several and keeps the worst.
   constexpr int kCount = 1000;
-  World w;
-  base_world(w, {0.5f, 0.5f}, Vec3(0, -kGravity, 0), 0.6f);
-  p.apply(w);
-  w.validate_settings();
+  constexpr unsigned kSeeds[] = {7, 8, 9, 10, 11};
   const float side = std::cbrt(0.1f * kCount * std::pow(2.0f * kRadius, 3.0f));
-  std::mt19937 rng(7);
-  for (int k = 0; k < kCount; ++k) {
-    const float x = (uniform(rng) - 0.5f) * side, y = (uniform(rng) - 0.5f) * side, z = (uniform(rng) - 0.5f) * side;
-    add(w, Vec3(x, 0.3f + y, z));
-  }
-  TimedRun run(w, o.threads, p);
   const int steps = steps_for(5.0, p.dt);
-  // Separating may cost speed up to the push-out cap; anything above the cap plus what gravity
-  // gave since the start is push-out turned into real speed (an explosion).
-  double worst_ratio = 0.0, fastest = 0.0;
+  double made = 0.0, fastest = 0.0, end_overlap = 0.0, worst_step_overlap = 0.0, mean_step_overlap = 0.0, ms = 0.0;
   std::size_t escaped = 0;
-  for (int s = 0; s < steps; ++s) {
-    run.step();
-    const Metrics m = measure(w);
-    const double allowed = w.solver.push_out_speed + kGravity * p.dt * (s + 1);
-    worst_ratio = std::max(worst_ratio, m.max_speed_mps / allowed);
-    fastest = std::max(fastest, m.max_speed_mps);
-    escaped = std::max(escaped, m.escaped);
+  std::uint64_t hash = 0;
+  nlohmann::ordered_json j;
+  for (unsigned seed : kSeeds) {
+    World w;
+    base_world(w, {0.5f, 0.5f}, Vec3(0, -kGravity, 0), 0.6f);
+    p.apply(w);
+    w.validate_settings();
+    std::mt19937 rng(seed);
+    for (int k = 0; k < kCount; ++k) {
+      const float x = (uniform(rng) - 0.5f) * side, y = (uniform(rng) - 0.5f) * side, z = (uniform(rng) - 0.5f) * side;
+      add(w, Vec3(x, 0.3f + y, z));
+    }
+    TimedRun run(w, o.threads, p);
+    for (int s = 0; s < steps; ++s) {
+      run.step();
+      const Metrics m = measure(w);
+      // Speed the solver made: beyond what falling from rest gives by now.
+      made = std::max(made, m.max_speed_mps - kGravity * p.dt * (s + 1));
+      fastest = std::max(fastest, m.max_speed_mps);
+      escaped = std::max(escaped, m.escaped);
+    }
+    end_overlap = std::max(end_overlap, measure(w).max_penetration_r);
+    worst_step_overlap = std::max(worst_step_overlap, run.worst_step_overlap_r());
+    ms += run.median_ms() / static_cast<double>(std::size(kSeeds));
+    mean_step_overlap += run.mean_step_overlap_r() / static_cast<double>(std::size(kSeeds));
+    hash = hash * 1099511628211ull ^ state_hash(w);  // FNV-style fold: every crowd's end state
+    if (j.empty()) j = head("crowd", p, w, run, o.threads);
   }
-  const Metrics end = measure(w);
-  auto j = head("crowd", p, w, run, o.threads);
-  j["error"] = worst_ratio;
-  j["error_metric"] = "max over steps of top ball speed / (push-out cap + g t), 5 s after spawning 10x overlapped";
+  j["seeds"] = std::size(kSeeds);
+  j["ms_per_step"] = ms;  // mean over the crowds of each one's median step
+  j["cost_ms_per_sim_s"] = ms / static_cast<double>(p.dt);
+  j["max_step_penetration_r"] = worst_step_overlap;
+  j["mean_step_penetration_r"] = mean_step_overlap;
+  j["error"] = std::max(made, 0.0);
+  j["error_metric"] = "speed the solver made (top ball speed - g t, m/s), worst step of 5 crowds spawned 10x overlapped";
   j["max_ball_speed_mps"] = fastest;
   j["escaped"] = escaped;
-  j["max_penetration_r"] = end.max_penetration_r;
-  j["state_hash"] = hash_hex(state_hash(w));
+  j["max_penetration_r"] = end_overlap;
+  j["state_hash"] = hash_hex(hash);
   return j;
 }
 

@@ -10,8 +10,8 @@
 //   stack    max(drift, overlap, floor overlap) of a 50-sphere column after 20 s, / r
 //   pour     max sphere-sphere penetration at the end of the 10 s pour, / r
 //   gas      |KE(10,000 steps) / KE(0) - 1| of 2,000 elastic spheres in a closed box, no gravity
-//   crowd    max over 5 s of the top ball speed / (push-out cap + g t), 1,000 spheres spawned in a
-//            tenth of the room they need: above 1, push-out became real speed (an explosion)
+//   crowd    speed the solver made (top ball speed - g t, m/s), worst step of 5 s, worst of 5
+//            random crowds of 1,000 spheres spawned in a tenth of the room they need
 //   character  deepest overlap after a step (ball-ball, wall, joint collider) / r, worst step of
 //            the pit-character path
 // Every point also records max_step_penetration_r (and its mean over the steps), the worst overlap after any timed step as

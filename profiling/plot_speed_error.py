@@ -24,8 +24,13 @@ COST_NOISE = 0.10
 # Errors within this fraction (or below ERROR_FLOOR) are the same error.
 ERROR_NOISE = 0.02
 ERROR_FLOOR = 1e-6
+# Cases whose error is chaotic get a wider noise: the character's worst overlap after a step is
+# one pinch of a ball between a limb and the pile, and at the default setting it measured 0.24,
+# 0.99 and 0.71 r with 4,800, 5,000 and 5,200 balls (top ball speed 3.6, 22.9 and 3.6 m/s):
+# errors within 4x of each other there are the same error.
+CASE_ERROR_NOISE = {"character": 0.75}
 
-CASE_ORDER = ["bounce", "cradle", "stack", "gas", "character"]
+CASE_ORDER = ["bounce", "cradle", "stack", "gas", "crowd", "character"]
 # Settings shown in the tables when the sweep has them (the solver's knobs change over time;
 # the CSV keeps every field whatever it is).
 SETTING_COLUMNS = [("substeps", "substeps"), ("push_out_rate", "push rate"), ("push_out_speed", "push-out (m/s)"),
@@ -38,9 +43,12 @@ DETAILS = {
     "stack": [("drift_r", "drift / r"), ("max_penetration_r", "overlap / r"),
               ("max_wall_penetration_r", "floor overlap / r")],
     "gas": [("energy_drift", "KE drift"), ("max_abs_energy_drift", "worst |KE drift|"), ("escaped", "escaped")],
+    "crowd": [("max_ball_speed_mps", "top ball speed (m/s)"), ("escaped", "escaped"),
+              ("max_penetration_r", "overlap at 5 s / r")],
     "character": [("max_collider_penetration_r", "deepest in a collider / r"),
                   ("balls_inside_colliders", "balls inside (worst step)"), ("max_ball_speed_mps", "top ball speed (m/s)"),
-                  ("max_penetration_r", "ball-ball pen / r"), ("escaped", "escaped")],
+                  ("ball_speed_bound_mps", "strike bound (m/s)"), ("max_penetration_r", "ball-ball pen / r"),
+                  ("escaped", "escaped")],
     "pour": [("max_penetration_r", "max pen / r"), ("mean_penetration_r", "mean pen / r"),
              ("kinetic_energy_j", "KE end (J)"), ("settle_s", "settle (s)"), ("escaped", "escaped")],
 }
@@ -48,7 +56,8 @@ DETAILS = {
 
 def details_for(case):
     return (DETAILS["pour"] if case.startswith("pour") else DETAILS.get(case, [])) + \
-        [("max_step_penetration_r", "worst overlap after a step / r")]
+        [("max_step_penetration_r", "worst overlap after a step / r"),
+         ("mean_step_penetration_r", "mean overlap after a step / r")]
 
 
 def is_tolerance(p):
@@ -62,9 +71,9 @@ def substeps_cell(p):
     return fmt(p.get("substeps"))
 
 
-def same_error(a, b):
+def same_error(a, b, case=None):
     a, b = max(a, ERROR_FLOOR), max(b, ERROR_FLOOR)
-    return abs(a - b) <= ERROR_NOISE * max(a, b)
+    return abs(a - b) <= CASE_ERROR_NOISE.get(case, ERROR_NOISE) * max(a, b)
 
 
 def dominates(q, p):
@@ -74,15 +83,30 @@ def dominates(q, p):
         return False
     cheaper = q["cost_ms_per_sim_s"] < p["cost_ms_per_sim_s"] * (1 - COST_NOISE)
     not_dearer = q["cost_ms_per_sim_s"] <= p["cost_ms_per_sim_s"] * (1 + COST_NOISE)
-    better = q["error"] < p["error"] and not same_error(q["error"], p["error"])
-    not_worse = q["error"] <= p["error"] or same_error(q["error"], p["error"])
+    better = q["error"] < p["error"] and not same_error(q["error"], p["error"], p["case"])
+    not_worse = q["error"] <= p["error"] or same_error(q["error"], p["error"], p["case"])
     return (cheaper and not_worse) or (not_dearer and better)
+
+
+def jointly_dominates(runs, defaults):
+    """runs and defaults map case -> point. A setting beats the default jointly when it is no
+    dearer (within noise) and no less accurate in every case both ran, and dominates it in one."""
+    shared = [c for c in runs if c in defaults]
+
+    def no_worse(q, d):
+        if q["state_hash"] == d["state_hash"]:
+            return True
+        return (q["cost_ms_per_sim_s"] <= d["cost_ms_per_sim_s"] * (1 + COST_NOISE) and
+                (q["error"] <= d["error"] or same_error(q["error"], d["error"], d["case"])))
+
+    return bool(shared) and all(no_worse(runs[c], defaults[c]) for c in shared) and \
+        any(dominates(runs[c], defaults[c]) for c in shared)
 
 
 def neighbours(default, ps):
     """Why the default sits where it does: its nearest front neighbours on either side."""
     def equivalent(p):  # same error and a cost within noise: the default again, in effect
-        return (same_error(p["error"], default["error"]) and
+        return (same_error(p["error"], default["error"], default["case"]) and
                 abs(p["cost_ms_per_sim_s"] / default["cost_ms_per_sim_s"] - 1) <= COST_NOISE)
 
     front = [p for p in ps if p["pareto"] and not is_tolerance(p) and p["state_hash"] != default["state_hash"]
@@ -298,7 +322,9 @@ def main():
            "threads given per case (errors and hashes do not depend on the thread count; small "
            "cases are dominated by per-step overhead, so compare costs within a case). "
            f"A point is on the Pareto front when no other point of its case is at most {COST_NOISE:.0%} "
-           f"dearer and clearly more accurate (by more than {ERROR_NOISE:.0%}), or clearly cheaper and "
+           f"dearer and clearly more accurate (by more than {ERROR_NOISE:.0%}; for the character, whose "
+           "worst step is one chaotic pinch, by more than 4x: at the default it measured 0.24, 0.99 and "
+           "0.71 r with 4,800, 5,000 and 5,200 balls), or clearly cheaper and "
            "no less accurate; settings that end in the same state hash as another computed the same "
            "thing (the setting did not matter there) and never dominate each other. Bounce, cradle "
            "and stack are run several times per point and the cheapest run is kept. The front "
@@ -344,15 +370,20 @@ def main():
                           fmt(next(p["cost_ms_per_sim_s"] for p in by_case[c] if p["point"] == "default")),
                           ", ".join(p["point"] for p in by_case[c] if p["dominates_default"]) or "none"]
                          for c in cases if c in default_on_front]))
-    # A setting that dominates the default in every case it was run on would be a better default.
-    labels = sorted({p["point"] for p in points if p["point"] != "default"})
+    # One default serves every case: the front that decides is the joint one.
+    defaults = {c: p for c in cases for p in by_case[c] if p["point"] == "default"}
+    labels = sorted({p["point"] for p in points if p["point"] != "default" and not is_tolerance(p)})
     better = []
     for label in labels:
-        runs = [p for p in points if p["point"] == label]
-        if runs and all(p["dominates_default"] for p in runs):
-            better.append(f"{label} ({', '.join(p['case'] for p in runs)})")
-    out.append("\nSettings that dominate the default in every case they ran: " +
-               (", ".join(better) if better else "none") + ".\n")
+        runs = {p["case"]: p for p in points if p["point"] == label}
+        if jointly_dominates(runs, defaults):
+            better.append(label)
+    out.append(f"\nOne default serves every case, so the front that decides is the joint one: a setting "
+               f"beats the default when in every case both ran it costs at most {COST_NOISE:.0%} more and "
+               "is no less accurate (or computed the same state), and in one case it is clearly better. "
+               f"Default on the joint front: **{'no' if better else 'yes'}**" +
+               (f"; beaten by: {', '.join(better)}" if better else
+                " (every setting that is better somewhere is worse, or dearer, somewhere else)") + ".\n")
     # The swept cases: those that ran the most fixed settings (pour-big runs only a few).
     fixed_labels = {c: {p["point"] for p in by_case[c] if not is_tolerance(p)} for c in cases}
     widest = max((len(v) for v in fixed_labels.values()), default=0)
