@@ -51,7 +51,11 @@ struct SolverSettings {
   float push_out_rate = 0.2f;
   // Cap on the speed at which overlapping spheres are pushed apart. Deep overlaps (spawned
   // inside each other) separate over several steps instead of jumping apart (unit: m/s).
-  float push_out_speed = 1.0f;
+  // Push-out is pseudo-velocity, so the cap bounds how fast overlap is removed, not how fast
+  // spheres fly: a crowd spawned inside itself made 4.3 m/s of real speed at a 1 m/s cap
+  // (its overlap lingered, and warm starts and impacts fed on it) and 0.3 m/s at 4 m/s, with
+  // every other case equal (profiling/reports/speed_error.md).
+  float push_out_speed = 4.0f;
   // Impacts slower than this are perfectly inelastic, so resting piles do not jitter
   // (unit: m/s). 0 gives every approach its restitution (elastic gas tests).
   float restitution_threshold = 0.25f;

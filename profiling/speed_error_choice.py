@@ -21,7 +21,7 @@ BOUNDS = {
     "gas": (0.01, "kinetic energy kept within 1% over 10,000 elastic steps"),
     "pour": (0.01, "deepest overlap at the end under 1% r, SCENES.md's depth for a ball 'inside'"),
     "crowd": (1.0, "the solver makes no ball more than 1 m/s faster than falling would while a crowd "
-                   "spawned inside itself separates: issue 2's hard case at the default push-out cap, "
+                   "spawned inside itself separates: issue 2's hard case at a 1 m/s push-out cap, "
                    "held in m/s for every setting (a larger cap must not buy a looser bound)"),
     "character": (0.01, "no ball left inside a collider (deeper than 1% r, SCENES.md) after any step; its "
                         "error axis, the worst overlap of any kind after a step, comes from single jams "

@@ -8,6 +8,8 @@
 // so at the step's end each collider sits exactly where the animation puts it.
 #pragma once
 
+#include <algorithm>
+
 #include <cstdint>
 #include <vector>
 
@@ -62,6 +64,12 @@ ColliderOverlap measure_collider_overlap(const World& world, float depth_fractio
 struct ColliderMotion {
   double fastest = 0.0;  // fastest collider end this step (unit: m/s)
   double highest = 0.0;  // highest collider surface at the step's end (unit: m)
+
+  // Folds another step's motion in: the bound below takes the worst over a run.
+  void widen(const ColliderMotion& step) {
+    fastest = std::max(fastest, step.fastest);
+    highest = std::max(highest, step.highest);
+  }
 };
 ColliderMotion measure_collider_motion(const World& world);
 

@@ -255,7 +255,9 @@ struct Solver {
     bool unused = false;
     float applied = 0.0f;
     Vec3 fixed_pseudo = Vec3::Zero();
-    contact<pass>(c, f, surface, nullptr, 0.0f, 1.0f, -gravity.dot(f.n), fixed_pseudo, unused, applied);
+    // A static partner does not spin, so its radius would only set the warm-start reach, which
+    // is then measured in the sphere's own radius.
+    contact<pass>(c, f, surface, nullptr, 0.0f, r[c.a], -gravity.dot(f.n), fixed_pseudo, unused, applied);
     if (pass == Pass::Relax && c.impact_shift != 0.0f) {
       x[c.a] += f.n * c.impact_shift;
       c.impact_shift = 0.0f;

@@ -121,8 +121,7 @@ struct PitRun {
   std::size_t most_inside = 0;   // most balls deeper than 1% r after one step
   std::size_t escaped = 0;       // most balls outside the pit after one step
   double fastest_ball = 0.0;     // (unit: m/s)
-  double fastest_collider = 0.0; // fastest collider end over the run (unit: m/s)
-  double highest_collider = 0.0; // highest collider surface over the run (unit: m)
+  ColliderMotion limbs;          // fastest collider end and highest surface over the run
   double settled_speed = 0.0;    // fastest ball when the path starts (unit: m/s)
   std::uint64_t hash = 0;
 };
@@ -147,9 +146,7 @@ PitRun run_pit_character(std::size_t balls, int settle_steps, int path_steps, in
     const ColliderOverlap o = measure_collider_overlap(world);
     out.deepest_r = std::max(out.deepest_r, o.max_depth_r);
     out.most_inside = std::max(out.most_inside, o.inside);
-    const ColliderMotion motion = measure_collider_motion(world);
-    out.fastest_collider = std::max(out.fastest_collider, motion.fastest);
-    out.highest_collider = std::max(out.highest_collider, motion.highest);
+    out.limbs.widen(measure_collider_motion(world));
     double fastest = 0.0;
     std::size_t escaped = 0;
     auto x = world.spheres.position();
@@ -173,16 +170,16 @@ TEST(PitCharacter, TenThousandBallsArePushedAsideAndNoneIsLeftInsideOrEscapes) {
   const PitRun run = run_pit_character(10000, PitCharacterScene{}.settle_steps, 600, 2);
   const float e = 0.5f;     // pair restitution of ball and collider (both materials 0.5)
   const float push = SolverSettings{}.push_out_speed;
-  const double bound = struck_ball_speed_bound({run.fastest_collider, run.highest_collider}, e, push, 9.81f);
+  const double bound = struck_ball_speed_bound(run.limbs, e, push, 9.81f);
   std::printf("[ pit ] settled at %.4f m/s; deepest inside a collider %.2e r, most balls inside %zu, escaped %zu\n",
               run.settled_speed, run.deepest_r, run.most_inside, run.escaped);
   std::printf("[ pit ] fastest collider %.2f m/s, top %.2f m; fastest ball %.2f m/s (bound %.2f m/s)\n",
-              run.fastest_collider, run.highest_collider, run.fastest_ball, bound);
+              run.limbs.fastest, run.limbs.highest, run.fastest_ball, bound);
   EXPECT_LT(run.settled_speed, 0.05);  // settled: nothing faster than 5 cm/s when the path starts
   EXPECT_LE(run.deepest_r, kInsideDepthFraction);
   EXPECT_EQ(run.most_inside, 0u);
   EXPECT_EQ(run.escaped, 0u);
-  EXPECT_GT(run.fastest_collider, 4.0);  // the run clip and the turn did swing fast limbs
+  EXPECT_GT(run.limbs.fastest, 4.0);  // the run clip and the turn did swing fast limbs
   EXPECT_LT(run.fastest_ball, bound);
 }
 
