@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Speed against error: sweeps the solver settings (substeps, push-out rate and speed cap, step
 # size, restitution threshold) and tolerance mode (`--tolerance P`, P = 0.01, 0.003, 0.001) over
-# bounce, Newton's cradle, the resting stack of 50, the elastic gas, the pour at 10k, the
-# pit-character at 5k, and a few points of the pour at 100k.
+# bounce, Newton's cradle, the resting stack of 50, the elastic gas, the pour at 10k, 5 crowds
+# spawned inside themselves, the pit-character at 5k, and a few points of the pour at 100k.
 # Writes $REPORTS_DIR/speed_error.{jsonl,csv,png,md} (default profiling/reports/), including
 # where the tolerance points land and why the default is the default. Takes roughly an hour
 # on 2 cores. Extra arguments go to the speed_error program, e.g.

@@ -121,9 +121,17 @@ TEST(HardCases, NewtonsCradlePassesTheMomentumToTheLastBall) {
   }
 }
 
-// The push-out cap the crowd separates at: 1 m/s, and the default (4 m/s since the
-// speed-against-error study showed a 1 m/s cap lets the overlap linger and feed real speed).
-class CrowdAtCap : public ::testing::TestWithParam<float> {};
+// A crowd: the push-out cap it separates at and the seed of its random spawn. The default cap
+// (4 m/s since the speed-against-error study showed a 1 m/s cap lets the overlap linger and
+// feed real speed) over several spawns, since one spawn can be lucky: before the solver stopped
+// reading overlaps deeper than one move as impacts (systems/solver.cpp, made_by_one_move), seeds
+// 9, 15 and 16 broke the bound that seed 7 met at the default cap, and seed 15 at 1 m/s.
+struct Crowd {
+  float push_out_speed;  // (unit: m/s)
+  unsigned seed;
+};
+
+class CrowdAtCap : public ::testing::TestWithParam<Crowd> {};
 
 TEST_P(CrowdAtCap, ACrowdSpawnedInATenthOfItsVolumeSeparatesCalmly) {
   test::Sim s;
@@ -131,8 +139,8 @@ TEST_P(CrowdAtCap, ACrowdSpawnedInATenthOfItsVolumeSeparatesCalmly) {
   // The crowd needs n (2r)^3 of space; it gets a tenth, as a cube at the pit's centre.
   const float side = std::cbrt(0.1f * n * std::pow(2 * kR, 3.0f));
   test::make_pit(s.world, 0.6f, 0.5f, 0.5f);
-  s.world.solver.push_out_speed = GetParam();
-  std::mt19937 rng(7);
+  s.world.solver.push_out_speed = GetParam().push_out_speed;
+  std::mt19937 rng(GetParam().seed);
   std::uniform_real_distribution<float> u(-0.5f * side, 0.5f * side);
   for (int i = 0; i < n; ++i) test::add_ball(s.world, Vec3(u(rng), 0.3f + u(rng), u(rng)));
   s.start(2);
@@ -153,9 +161,14 @@ TEST_P(CrowdAtCap, ACrowdSpawnedInATenthOfItsVolumeSeparatesCalmly) {
   EXPECT_LT(end.max_penetration_r, 0.05);  // separated: the pile is resting at 5 s
 }
 
-INSTANTIATE_TEST_SUITE_P(HardCases, CrowdAtCap, ::testing::Values(1.0f, SolverSettings{}.push_out_speed),
-                         [](const ::testing::TestParamInfo<float>& point) {
-                           return point.index == 0 ? std::string("OneMetrePerSecond") : std::string("Default");
+constexpr float kDefaultCap = SolverSettings{}.push_out_speed;
+INSTANTIATE_TEST_SUITE_P(HardCases, CrowdAtCap,
+                         ::testing::Values(Crowd{1.0f, 7}, Crowd{1.0f, 15}, Crowd{kDefaultCap, 7}, Crowd{kDefaultCap, 9},
+                                           Crowd{kDefaultCap, 15}, Crowd{kDefaultCap, 16}),
+                         [](const ::testing::TestParamInfo<Crowd>& point) {
+                           const Crowd& c = point.param;
+                           return (c.push_out_speed == kDefaultCap ? std::string("DefaultCap") : std::string("OneMetrePerSecond")) +
+                                  "Seed" + std::to_string(c.seed);
                          });
 
 TEST(HardCases, AHundredMetresPerSecondBallNeitherTunnelsThroughABallNorTheWall) {
