@@ -17,18 +17,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from report_common import load_jsonl, machine_line, md_table  # noqa: E402
+from speed_error_choice import ERROR_FLOOR, ERROR_NOISE, same_error  # noqa: E402
 from speed_error_choice import section as choice_section  # noqa: E402
 
 # Cost is wall time, measured on a shared machine: two costs within this fraction are the same.
 COST_NOISE = 0.10
-# Errors within this fraction (or below ERROR_FLOOR) are the same error.
-ERROR_NOISE = 0.02
-ERROR_FLOOR = 1e-6
-# Cases whose error is chaotic get a wider noise: the character's worst overlap after a step is
-# one pinch of a ball between a limb and the pile, and at the default setting it measured 0.24,
-# 0.99 and 0.71 r with 4,800, 5,000 and 5,200 balls (top ball speed 3.6, 22.9 and 3.6 m/s):
-# errors within 4x of each other there are the same error.
-CASE_ERROR_NOISE = {"character": 0.75}
 
 CASE_ORDER = ["bounce", "cradle", "stack", "gas", "crowd", "character"]
 # Settings shown in the tables when the sweep has them (the solver's knobs change over time;
@@ -69,11 +62,6 @@ def substeps_cell(p):
     if is_tolerance(p) and "substeps_mean" in p:
         return f"{p['substeps_mean']:.1f} ({p['substeps_min']}..{p['substeps_max']})"
     return fmt(p.get("substeps"))
-
-
-def same_error(a, b, case=None):
-    a, b = max(a, ERROR_FLOOR), max(b, ERROR_FLOOR)
-    return abs(a - b) <= CASE_ERROR_NOISE.get(case, ERROR_NOISE) * max(a, b)
 
 
 def dominates(q, p):
@@ -324,7 +312,8 @@ def main():
            f"A point is on the Pareto front when no other point of its case is at most {COST_NOISE:.0%} "
            f"dearer and clearly more accurate (by more than {ERROR_NOISE:.0%}; for the character, whose "
            "worst step is one chaotic pinch, by more than 4x: at the default it measured 0.24, 0.99 and "
-           "0.71 r with 4,800, 5,000 and 5,200 balls), or clearly cheaper and "
+           "0.71 r with 4,800, 5,000 and 5,200 balls; for the crowd, the worst of 5 random spawns, by "
+           "more than 10x: at the default 10 spawns made 0.03 to 0.6 m/s), or clearly cheaper and "
            "no less accurate; settings that end in the same state hash as another computed the same "
            "thing (the setting did not matter there) and never dominate each other. Bounce, cradle "
            "and stack are run several times per point and the cheapest run is kept. The front "
