@@ -21,7 +21,10 @@ ERROR_FLOOR = 1e-6
 # and 0.71 r with 4,800, 5,000 and 5,200 balls (top ball speed 3.6, 22.9 and 3.6 m/s), so errors
 # within 4x of each other are the same error. The crowd's is the worst of 5 random spawns: at
 # the default, 10 spawns made 0.03 to 0.6 m/s, so under its bound errors within 10x are the same.
-CASE_ERROR_NOISE = {"character": 0.75, "crowd": 0.9}
+# The pour's is the deepest of its pile's overlaps, one pair that chaos places: solver variants
+# that changed a few contacts gave 0.000084 to 0.0013 r at 10k (and 0.00067 to 0.0019 r at
+# 100k), so errors within 10x are the same there too. A case named "pour-10k" takes "pour"'s.
+CASE_ERROR_NOISE = {"character": 0.75, "crowd": 0.9, "pour": 0.9}
 # Between settings that meet their bounds the rule does not compare these cases' errors at all:
 # each is one event (a pinch; the worst of 5 spawns), and the 3 ball counts and 10 spawns above
 # are too few to say how wide their noise is.
@@ -30,7 +33,14 @@ EVENT_CASES = ("character", "crowd")
 
 def same_error(a, b, case=None):
     a, b = max(a, ERROR_FLOOR), max(b, ERROR_FLOOR)
-    return abs(a - b) <= CASE_ERROR_NOISE.get(case, ERROR_NOISE) * max(a, b)
+    noise = bound_for(case, CASE_ERROR_NOISE) if case else None
+    return abs(a - b) <= (ERROR_NOISE if noise is None else noise) * max(a, b)
+
+
+def meets_bound(point, case, bounds=None):
+    """The case's bound (if any) holds for this point, and no ball left the pit."""
+    b = bound_for(case, BOUNDS if bounds is None else bounds)
+    return not (b and bounded_value(point, b) > b[0]) and point.get("escaped", 0) == 0
 
 # Accuracy bound per case and the reason for it: (limit, why) on the case's error axis, or
 # (limit, why, field) on another figure of its runs. Cases not listed (or a case whose name
@@ -84,11 +94,9 @@ def choose(by_case, swept_cases, cost_noise, error_floor, bounds=BOUNDS):
         runs = {c: next(p for p in by_case[c] if p["point"] == label) for c in cases}
         fails = []
         for c, p in runs.items():
-            b = bound_for(c, bounds)
-            if b and bounded_value(p, b) > b[0]:
-                fails.append(c)
-            elif p.get("escaped", 0) > 0:
-                fails.append(f"{c} (a ball out of the pit)")
+            if not meets_bound(p, c, bounds):
+                b = bound_for(c, bounds)
+                fails.append(c if b and bounded_value(p, b) > b[0] else f"{c} (a ball out of the pit)")
         d_cost = {c: defaults[c]["cost_ms_per_sim_s"] for c in cases}
         candidates.append({
             "point": label,
