@@ -138,7 +138,9 @@ def section(by_case, swept_cases, cost_noise, error_floor, md_table, fmt, bounds
            "then take the cheapest by the geometric mean over the cases of cost / the default's "
            f"cost; settings within {cost_noise:.0%} of the cheapest are a tie (the machine's "
            "noise), broken by the geometric mean of error / the default's error, where errors "
-           f"within {ERROR_NOISE:.0%} count as equal and the errors of " + " and ".join(EVENT_CASES) +
+           f"within a case's noise count as equal ({ERROR_NOISE:.0%}; " +
+           ", ".join(f"{c} {1 / (1 - n):.0f}x" for c, n in CASE_ERROR_NOISE.items() if c not in EVENT_CASES) +
+           ") and the errors of " + " and ".join(EVENT_CASES) +
            " are not compared (each is one event: a pinch of a ball under a limb, the worst of 5 "
            "random spawns; only their bounds count); a default within the error noise of the most "
            "accurate tied setting stays the default (moving it takes a reason beyond the noise). A "
