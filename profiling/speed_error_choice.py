@@ -37,10 +37,18 @@ def same_error(a, b, case=None):
     return abs(a - b) <= (ERROR_NOISE if noise is None else noise) * max(a, b)
 
 
-def meets_bound(point, case, bounds=None):
-    """The case's bound (if any) holds for this point, and no ball left the pit."""
+def failure(point, case, bounds=None):
+    """Why this point fails its case (over the case's bound, or a ball out of the pit), or None."""
     b = bound_for(case, BOUNDS if bounds is None else bounds)
-    return not (b and bounded_value(point, b) > b[0]) and point.get("escaped", 0) == 0
+    if b and bounded_value(point, b) > b[0]:
+        return case
+    if point.get("escaped", 0) > 0:
+        return f"{case} (a ball out of the pit)"
+    return None
+
+
+def meets_bound(point, case, bounds=None):
+    return failure(point, case, bounds) is None
 
 # Accuracy bound per case and the reason for it: (limit, why) on the case's error axis, or
 # (limit, why, field) on another figure of its runs. Cases not listed (or a case whose name
@@ -92,11 +100,7 @@ def choose(by_case, swept_cases, cost_noise, error_floor, bounds=BOUNDS):
     candidates = []
     for label in sorted(labels or []):
         runs = {c: next(p for p in by_case[c] if p["point"] == label) for c in cases}
-        fails = []
-        for c, p in runs.items():
-            if not meets_bound(p, c, bounds):
-                b = bound_for(c, bounds)
-                fails.append(c if b and bounded_value(p, b) > b[0] else f"{c} (a ball out of the pit)")
+        fails = [f for f in (failure(p, c, bounds) for c, p in runs.items()) if f]
         d_cost = {c: defaults[c]["cost_ms_per_sim_s"] for c in cases}
         candidates.append({
             "point": label,

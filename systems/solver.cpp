@@ -59,6 +59,9 @@ struct Solver {
 
   float mobility(std::uint32_t i) const { return asleep[i] ? 0.0f : inv_mass[i]; }
 
+  // Overlapping deeper than kWarmStartReach of the smaller radius.
+  static bool beyond_reach(float gap, float ra, float rb) { return gap < -kWarmStartReach * std::min(ra, rb); }
+
   // The contact frame and gap for a contact: n points from a toward b.
   struct Frame {
     Vec3 n;
@@ -119,7 +122,7 @@ struct Solver {
 
     if (pass == Pass::WarmStart) {
       // Too deep to trust (kWarmStartReach): solved from nothing this substep.
-      if (f.gap < -kWarmStartReach * std::min(ra, rb)) {
+      if (beyond_reach(f.gap, ra, rb)) {
         c.normal_impulse = 0.0f;
         c.friction_impulse = Vec3::Zero();
         return;
@@ -154,10 +157,10 @@ struct Solver {
     // 8.6 m/s faster than falling at the default push-out cap (none without). A resting pile never
     // overlaps that deep: the pour at 10k is bit for bit what it was; at 100k a pair in the
     // collapse did, and the pile ends as close (max overlap 0.00097 r, was 0.00133 r).
-    const bool made_by_one_move = f.gap >= vn * h || f.gap >= -kWarmStartReach * std::min(ra, rb);
     float impact = 0.0f;
     if (c.restitution > 0.0f && c.normal_impulse == 0.0f && !c.loaded_last_step &&
-        vn < -restitution_threshold && f.gap + vn * h < 0.0f && made_by_one_move) {
+        vn < -restitution_threshold && f.gap + vn * h < 0.0f &&
+        (f.gap >= vn * h || !beyond_reach(f.gap, ra, rb))) {  // made by one move, or not deep
       // A gap the next move will close is the next Solve's impact (it then corrects that
       // move exactly); Relax must only keep its speculative stop from loading the contact.
       if (pass == Pass::Relax && f.gap > 0.0f) return;

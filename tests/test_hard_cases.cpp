@@ -124,7 +124,7 @@ TEST(HardCases, NewtonsCradlePassesTheMomentumToTheLastBall) {
 // A crowd: the push-out cap it separates at and the seed of its random spawn. The default cap
 // (4 m/s since the speed-against-error study showed a 1 m/s cap lets the overlap linger and
 // feed real speed) over several spawns, since one spawn can be lucky: before the solver stopped
-// reading overlaps deeper than one move as impacts (systems/solver.cpp, made_by_one_move), seeds
+// reading overlaps deeper than one move as impacts (systems/solver.cpp, beyond_reach), seeds
 // 9, 15 and 16 broke the bound that seed 7 met at the default cap, and seed 15 at 1 m/s.
 struct Crowd {
   float push_out_speed;  // (unit: m/s)
