@@ -37,7 +37,7 @@ struct SlabSearch {
   // acts on a as -F and on b as +F, changes sign. The normal impulse is along a -> b either way.
   Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w,
                bool reversed = false) const {
-    Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f, false};
+    Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f, false, Vec3::Zero(), 0.0f};
     if (w) {
       c.normal_impulse = w->normal_impulse;
       c.friction_impulse = reversed ? Vec3(-w->friction_impulse) : w->friction_impulse;

@@ -1,6 +1,7 @@
 #include "systems/solver.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "engine/world.h"
@@ -56,8 +57,19 @@ struct Solver {
   // end (systems/joint_colliders.h), so each substep sees it where it is at that moment: a
   // fast limb sweeps the step in substep-sized moves instead of jumping a whole step at once.
   float collider_time = 0.0f;
+  // Per row, for this step (sleep does not change inside it): inverse mass, 0 while asleep (a
+  // sleeper acts as fixed), and the spin one unit of tangential impulse gives (null without
+  // angular state). Looked up, not recomputed, by every contact in every pass.
+  const float* mobile_inv_mass = nullptr;
+  const float* spin_per_impulse = nullptr;
+  // Whether each pair's kept frame (Contact::normal, gap) is that of the current positions.
+  // Positions change only in the move and in Relax's impact shifts, so a frame Relax computes
+  // serves the next substep's WarmStart and Solve, unless a shift (rare: impacts) moved a sphere
+  // after its frame was taken; then, as at a step's start, WarmStart computes them all again.
+  bool pair_frames_current = false;
+  std::atomic<bool>* shifted = nullptr;  // set by any impact shift during Relax
 
-  float mobility(std::uint32_t i) const { return asleep[i] ? 0.0f : inv_mass[i]; }
+  float mobility(std::uint32_t i) const { return mobile_inv_mass[i]; }
 
   // Overlapping deeper than kWarmStartReach of the smaller radius.
   static bool beyond_reach(float gap, float ra, float rb) { return gap < -kWarmStartReach * std::min(ra, rb); }
@@ -93,11 +105,13 @@ struct Solver {
   }
 
   // One contact, one pass. For a static partner, vb is a scratch copy of its surface velocity
-  // and mb = 0, so nothing the contact does to "b" survives.
+  // and mb = kb = 0, so nothing the contact does to "b" survives. `applied` receives the normal
+  // impulse this pass applied (unit: N s). Inlined into its two callers: as a call, passing and
+  // spilling its many references cost more than a pile's contact does otherwise.
   template <Pass pass>
-  // `applied` receives the normal impulse this pass applied (unit: N s).
-  void contact(Contact& c, const Frame& f, Vec3& vb, Vec3* wb, float mb, float rb, float approach_accel,
-               Vec3& pseudo_b, bool& pushed_partner, float& applied) const {
+  [[gnu::always_inline]] void contact(Contact& c, const Frame& f, Vec3& vb, Vec3* wb, float mb, float rb, float kb,
+                                      float approach_accel, Vec3& pseudo_b, bool& pushed_partner,
+                                      float& applied) const {
     const std::uint32_t a = c.a;
     const float ma = mobility(a);
     if (ma + mb == 0.0f) return;
@@ -106,8 +120,7 @@ struct Solver {
     Vec3* wa = w ? &w[a] : nullptr;
     const float ra = r[a];
     const Vec3& n = f.n;
-    const float ka = wa ? kSphereAngularFactor * ma / ra : 0.0f;  // spin per unit tangential impulse
-    const float kb = wb ? kSphereAngularFactor * mb / rb : 0.0f;
+    const float ka = wa ? spin_per_impulse[a] : 0.0f;
 
     auto apply = [&](const Vec3& impulse) {
       va -= ma * impulse;
@@ -234,16 +247,29 @@ struct Solver {
     return c.normal_impulse == 0.0f && c.friction_impulse.isZero(0.0f);
   }
 
+  // The pair's frame for this pass: computed (and kept) where positions may have changed since
+  // it was kept, else the kept one, which is bit for bit what computing it would give.
+  template <Pass pass>
+  Frame frame_for(Contact& c) const {
+    if (pass == Pass::Relax || (pass == Pass::WarmStart && !pair_frames_current)) {
+      const Frame f = pair_frame(c.a, c.b);
+      c.normal = f.n;
+      c.gap = f.gap;
+      return f;
+    }
+    return {c.normal, c.gap, Vec3::Zero()};
+  }
+
   template <Pass pass>
   void pair(Contact& c) const {
-    // Most contacts of a pour carry nothing to warm-start with: skip their frame's sqrt.
-    if (pass == Pass::WarmStart && carries_nothing(c)) return;
     const std::uint32_t b = c.b;
-    Frame f = pair_frame(c.a, b);
+    Frame f = frame_for<pass>(c);
+    if (pass == Pass::WarmStart && carries_nothing(c)) return;
     const float mb = mobility(b);
     bool pushed_b = false;
     float applied = 0.0f;
-    contact<pass>(c, f, v[b], w ? &w[b] : nullptr, mb, r[b], 0.0f, pseudo[b], pushed_b, applied);
+    contact<pass>(c, f, v[b], w ? &w[b] : nullptr, mb, r[b], w ? spin_per_impulse[b] : 0.0f, 0.0f, pseudo[b],
+                  pushed_b, applied);
     if (pushed_b) pushed[b] = 1;
     // A sleeper acts as fixed while it sleeps; a blow that would change the mover's speed by
     // more than wake_speed wakes it (the sleep system acts on the request after the step).
@@ -256,6 +282,7 @@ struct Solver {
       x[c.a] += f.n * (c.impact_shift * ma / total);
       x[b] -= f.n * (c.impact_shift * mb / total);
       c.impact_shift = 0.0f;
+      shifted->store(true, std::memory_order_relaxed);
     }
   }
 
@@ -269,10 +296,11 @@ struct Solver {
     Vec3 fixed_pseudo = Vec3::Zero();
     // A static partner does not spin, so its radius would only set the warm-start reach, which
     // is then measured in the sphere's own radius.
-    contact<pass>(c, f, surface, nullptr, 0.0f, r[c.a], -gravity.dot(f.n), fixed_pseudo, unused, applied);
+    contact<pass>(c, f, surface, nullptr, 0.0f, r[c.a], 0.0f, -gravity.dot(f.n), fixed_pseudo, unused, applied);
     if (pass == Pass::Relax && c.impact_shift != 0.0f) {
       x[c.a] += f.n * c.impact_shift;
       c.impact_shift = 0.0f;
+      shifted->store(true, std::memory_order_relaxed);
     }
   }
 
@@ -414,6 +442,15 @@ void solve_contacts(World& world) {
                 world.gravity()};
 
   std::vector<SlabContacts>& slabs = world.contacts.slabs;
+  const std::int64_t rows = static_cast<std::int64_t>(spheres.size());
+  std::vector<float> mobile_inv_mass(spheres.size()), spin_per_impulse(solver.w ? spheres.size() : 0);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < rows; ++i) {
+    mobile_inv_mass[i] = solver.asleep[i] ? 0.0f : solver.inv_mass[i];
+    if (solver.w) spin_per_impulse[i] = kSphereAngularFactor * mobile_inv_mass[i] / solver.r[i];
+  }
+  solver.mobile_inv_mass = mobile_inv_mass.data();
+  solver.spin_per_impulse = solver.w ? spin_per_impulse.data() : nullptr;
   std::vector<std::uint8_t> pushed(spheres.size());
   solver.pushed = pushed.data();
   std::vector<std::uint8_t> in_pile(spheres.size());
@@ -423,6 +460,8 @@ void solve_contacts(World& world) {
   solver.pseudo = pseudo.data();
   world.contacts.wake_requests.assign(spheres.size(), 0);
   solver.wake_requests = world.contacts.wake_requests.data();
+  std::atomic<bool> shifted{false};
+  solver.shifted = &shifted;
   for (int sub = 0; sub < substeps; ++sub) {
     std::fill(pushed.begin(), pushed.end(), std::uint8_t{0});
     std::fill(pseudo.begin(), pseudo.end(), Vec3::Zero());
@@ -432,7 +471,9 @@ void solve_contacts(World& world) {
     sweep<Pass::Solve>(slabs, solver);
     integrate_positions(spheres, h, world.gravity(), pushed, pseudo);
     solver.collider_time = static_cast<float>(sub + 1) * h;  // and where it ends, as the spheres now are
+    shifted.store(false, std::memory_order_relaxed);
     sweep<Pass::Relax>(slabs, solver);
+    solver.pair_frames_current = !shifted.load(std::memory_order_relaxed);
   }
   if (colliders.size() > 0) {  // colliders at the step's end (collider_time = dt)
     const int count = static_cast<int>(slabs.size());
