@@ -135,11 +135,13 @@ def main():
         f.write("\nbytes/sphere is the process's peak RSS divided by N, so at small N it is mostly "
                 "the fixed cost of the process.\n")
         f.write("\nOpenMP wait 'default' is the engine as shipped (GNU OpenMP spins while a thread "
-                "waits at a barrier); 'passive' is the same run with OMP_WAIT_POLICY=passive. On an "
-                "idle machine they are close; when other processes share the cores, a spinning "
-                "thread whose partner has been descheduled wastes its time slice at every barrier, "
-                "and the default can be many times slower than 1 thread. Speed-ups are against "
-                "the 1-thread run of the same N.\n")
+                "waits at a barrier); 'passive' is the same run with OMP_WAIT_POLICY=passive. On a "
+                "quiet machine the default is faster, and most so at small N, where a step is "
+                "short: a passive thread sleeps at every barrier (the solver has several per "
+                "substep) and must be woken. When other processes share the cores it turns round: "
+                "a spinning thread whose partner has been descheduled wastes its time slice at "
+                "every barrier, and the default can be many times slower than 1 thread. "
+                "Speed-ups are against the 1-thread run of the same N.\n")
 
 
 if __name__ == "__main__":
