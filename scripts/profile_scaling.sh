@@ -13,7 +13,8 @@
 #              passive"): "default" runs with OMP_WAIT_POLICY unset (GNU OpenMP spins a while
 #              before it sleeps: fastest on a quiet machine); "passive" sets it to passive
 #              (scripts/run.sh's choice), slower on a quiet machine (each barrier wakes a
-#              sleeping thread) but far less hurt when other processes share the cores. 1-thread runs use "default" only (no barrier partner to wait for).
+#              sleeping thread) but far less hurt when other processes share the cores.
+#              1-thread runs use "default" only (no barrier partner to wait for).
 # An N the runner refuses because it would not fit in memory (engine/memory_budget.h;
 # BALLPIT_MEMORY_LIMIT_MB lowers the budget) is recorded as refused and the study goes on.
 # A smoke run at small sizes:
