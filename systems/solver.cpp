@@ -67,6 +67,7 @@ struct Solver {
   // serves the next substep's WarmStart and Solve, unless a shift (rare: impacts) moved a sphere
   // after its frame was taken; then, as at a step's start, WarmStart computes them all again.
   bool pair_frames_current = false;
+  bool keep_pair_frames = true;  // false: every pass computes its frames (SolverSettings)
   std::atomic<bool>* shifted = nullptr;  // set by any impact shift during Relax
 
   float mobility(std::uint32_t i) const { return mobile_inv_mass[i]; }
@@ -251,7 +252,7 @@ struct Solver {
   // it was kept, else the kept one, which is bit for bit what computing it would give.
   template <Pass pass>
   Frame frame_for(Contact& c) const {
-    if (pass == Pass::Relax || (pass == Pass::WarmStart && !pair_frames_current)) {
+    if (pass == Pass::Relax || !keep_pair_frames || (pass == Pass::WarmStart && !pair_frames_current)) {
       const Frame f = pair_frame(c.a, c.b);
       c.normal = f.n;
       c.gap = f.gap;
@@ -462,6 +463,7 @@ void solve_contacts(World& world) {
   solver.wake_requests = world.contacts.wake_requests.data();
   std::atomic<bool> shifted{false};
   solver.shifted = &shifted;
+  solver.keep_pair_frames = settings.keep_pair_frames;
   for (int sub = 0; sub < substeps; ++sub) {
     std::fill(pushed.begin(), pushed.end(), std::uint8_t{0});
     std::fill(pseudo.begin(), pseudo.end(), Vec3::Zero());
