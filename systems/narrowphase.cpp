@@ -77,13 +77,22 @@ struct SlabSearch {
     return mj < mi || (mj == mi && j > i);
   }
 
-  void scan_cell(std::uint32_t i, int cx, int cy, int cz, bool fast, int slab, SlabContacts& out) const {
-    if (cx < 0 || cy < 0 || cz < 0 || cx >= grid.nx || cy >= grid.ny || cz >= grid.nz) return;
-    std::uint32_t k = grid.key(cx, cy, cz);
-    for (std::uint32_t j = grid.cell_start[k]; j < grid.cell_start[k + 1]; ++j) {
+  void scan_rows(std::uint32_t i, std::uint32_t begin, std::uint32_t end, bool fast, int slab, SlabContacts& out) const {
+    for (std::uint32_t j = begin; j < end; ++j) {
       if (!(fast ? fast_owns(i, j) : slow_owns(i, j))) continue;
       if (touching_soon(i, j)) add_pair(i, j, slab, out);
     }
+  }
+
+  // Cells (cx, y0..y1, cz), y clipped to the grid: consecutive keys, so one row range, visited
+  // in the order the cells one by one would visit them.
+  void scan_column(std::uint32_t i, int cx, int y0, int y1, int cz, bool fast, int slab, SlabContacts& out) const {
+    if (cx >= grid.nx || cz < 0 || cz >= grid.nz) return;
+    y0 = std::max(y0, 0);
+    y1 = std::min(y1, grid.ny - 1);
+    if (y0 > y1) return;
+    scan_rows(i, grid.cell_start[grid.key(cx, y0, cz)], grid.cell_start[grid.key(cx, y1, cz) + 1], fast, slab,
+              out);
   }
 
   void grid_pairs(std::uint32_t i, int slab, SlabContacts& out) const {
@@ -93,12 +102,11 @@ struct SlabSearch {
     int cx = slab;
     if (!scratch.fast[i]) {
       // Forward half of the 27-cell neighbourhood: cells with a larger key, plus the own cell
-      // (partners of larger row only). Keys grow with y, then z, then x, so rows do too.
-      scan_cell(i, cx, cy, cz, false, slab, out);
-      scan_cell(i, cx, cy + 1, cz, false, slab, out);
-      for (int dy = -1; dy <= 1; ++dy) scan_cell(i, cx, cy + dy, cz + 1, false, slab, out);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy) scan_cell(i, cx + 1, cy + dy, cz + dz, false, slab, out);
+      // (partners of larger row only). Keys grow with y, then z, then x, so rows do too, and
+      // the cells of one (x, z) column that differ in y are one range of rows.
+      scan_column(i, cx, cy, cy + 1, cz, false, slab, out);
+      scan_column(i, cx, cy - 1, cy + 1, cz + 1, false, slab, out);
+      for (int dz = -1; dz <= 1; ++dz) scan_column(i, cx + 1, cy - 1, cy + 1, cz + dz, false, slab, out);
       return;
     }
     float reach = r[i] + grid.max_radius + 2.0f * scratch.margin[i];
@@ -112,8 +120,7 @@ struct SlabSearch {
     int z0 = std::max(cz - span, 0), z1 = std::min(cz + span, grid.nz - 1);
     int y0 = std::max(cy - span, 0), y1 = std::min(cy + span, grid.ny - 1);
     for (int ax = x0; ax <= x1; ++ax)
-      for (int az = z0; az <= z1; ++az)
-        for (int ay = y0; ay <= y1; ++ay) scan_cell(i, ax, ay, az, true, slab, out);
+      for (int az = z0; az <= z1; ++az) scan_column(i, ax, y0, y1, az, true, slab, out);
   }
 
   void naive_pairs(std::uint32_t i, int slab, SlabContacts& out) const {

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "engine/packed3.h"
 #include "engine/world.h"
 #include "systems/integrate.h"
 
@@ -77,23 +78,23 @@ struct Solver {
 
   // The contact frame and gap for a contact: n points from a toward b.
   struct Frame {
-    Vec3 n;
+    Packed3 n;
     float gap;
-    Vec3 surface_velocity;  // of a static partner at the contact (unit: m/s)
+    Packed3 surface_velocity;  // of a static partner at the contact (unit: m/s)
   };
 
   Frame pair_frame(std::uint32_t a, std::uint32_t b) const {
-    Vec3 d = x[b] - x[a];
-    float dist = d.norm();
-    Vec3 n = dist > 1e-9f ? Vec3(d / dist) : Vec3(0.0f, 1.0f, 0.0f);
-    return {n, dist - r[a] - r[b], Vec3::Zero()};
+    const Packed3 d = Packed3::load(x[b]) - Packed3::load(x[a]);
+    const float dist = norm(d);
+    const Packed3 n = dist > 1e-9f ? d / dist : Packed3::of(0.0f, 1.0f, 0.0f);
+    return {n, dist - r[a] - r[b], Packed3::zero()};
   }
 
   Frame static_frame(std::uint32_t a, std::uint32_t b) const {
     if (b & kPlaneTag) {
       int p = static_cast<int>(b & ~kTagMask);
       Vec3 np = pit.plane_normal(p);
-      return {-np, np.dot(x[a]) - pit.plane_offset(p) - r[a], Vec3::Zero()};
+      return {Packed3::load(-np), np.dot(x[a]) - pit.plane_offset(p) - r[a], Packed3::zero()};
     }
     std::uint32_t c = b & ~kTagMask;
     const Vec3 ea = ca[c] + collider_time * cva[c], eb = cb[c] + collider_time * cvb[c];
@@ -102,36 +103,53 @@ struct Solver {
     Vec3 d = q - x[a];
     float dist = d.norm();
     Vec3 n = dist > 1e-9f ? Vec3(d / dist) : Vec3(0.0f, -1.0f, 0.0f);
-    return {n, dist - r[a] - cr[c], (1.0f - t) * cva[c] + t * cvb[c]};
+    return {Packed3::load(n), dist - r[a] - cr[c], Packed3::load((1.0f - t) * cva[c] + t * cvb[c])};
   }
 
-  // One contact, one pass. For a static partner, vb is a scratch copy of its surface velocity
-  // and mb = kb = 0, so nothing the contact does to "b" survives. `applied` receives the normal
-  // impulse this pass applied (unit: N s). Inlined into its two callers: as a call, passing and
-  // spilling its many references cost more than a pile's contact does otherwise.
-  template <Pass pass>
-  [[gnu::always_inline]] void contact(Contact& c, const Frame& f, Vec3& vb, Vec3* wb, float mb, float rb, float kb,
-                                      float approach_accel, Vec3& pseudo_b, bool& pushed_partner,
+  // The partner of a contact as the contact sees it, in registers: a sphere's state, loaded by
+  // the caller and stored back if `moved`, or a static partner's (surface velocity, no mass,
+  // no spin), which nothing the contact does outlives.
+  struct Partner {
+    Packed3 v;       // velocity (unit: m/s)
+    Packed3 w;       // angular velocity, read only when the partner spins (unit: rad/s)
+    Packed3 pseudo;  // push-out velocity this substep (unit: m/s)
+    float inv_mass;  // 0 for a static partner or a sleeper (unit: 1/kg)
+    float radius;    // (unit: m)
+    float spin;      // spin per unit tangential impulse (unit: rad/(m N s))
+    bool pushed = false;  // Solve: the contact acted on it
+  };
+
+  // One contact, one pass: sphere a (its state is loaded and stored here) against partner b.
+  // `applied` receives the normal impulse this pass applied (unit: N s). Inlined into its two
+  // callers: as a call, passing and spilling its many values cost more than a pile's contact
+  // does otherwise.
+  template <Pass pass, bool spin_a, bool spin_b>
+  [[gnu::always_inline]] void contact(Contact& c, const Frame& f, Partner& b, float approach_accel,
                                       float& applied) const {
     const std::uint32_t a = c.a;
-    const float ma = mobility(a);
+    const float ma = mobility(a), mb = b.inv_mass;
     if (ma + mb == 0.0f) return;
-    const bool idle = carries_nothing(c);
-    Vec3& va = v[a];
-    Vec3* wa = w ? &w[a] : nullptr;
-    const float ra = r[a];
-    const Vec3& n = f.n;
-    const float ka = wa ? spin_per_impulse[a] : 0.0f;
+    Packed3 friction_impulse = Packed3::load(c.friction_impulse);
+    const bool idle = c.normal_impulse == 0.0f && friction_impulse.is_zero();
+    Packed3 va = Packed3::load(v[a]);
+    Packed3 wa = spin_a ? Packed3::load(w[a]) : Packed3::zero();
+    const float ra = r[a], rb = b.radius;
+    const Packed3 n = f.n;
+    const float ka = spin_a ? spin_per_impulse[a] : 0.0f;
 
-    auto apply = [&](const Vec3& impulse) {
+    auto apply = [&](Packed3 impulse) {
       va -= ma * impulse;
-      vb += mb * impulse;
+      b.v += mb * impulse;
     };
-    auto apply_tangential = [&](const Vec3& impulse) {
+    auto apply_tangential = [&](Packed3 impulse) {
       apply(impulse);
-      Vec3 torque_axis = n.cross(impulse);
-      if (wa) *wa -= ka * torque_axis;
-      if (wb) *wb -= kb * torque_axis;
+      const Packed3 torque_axis = cross(n, impulse);
+      if constexpr (spin_a) wa -= ka * torque_axis;
+      if constexpr (spin_b) b.w -= b.spin * torque_axis;
+    };
+    auto store_a = [&] {
+      va.store(v[a]);
+      if constexpr (spin_a) wa.store(w[a]);
     };
 
     if (pass == Pass::WarmStart) {
@@ -141,14 +159,16 @@ struct Solver {
         c.friction_impulse = Vec3::Zero();
         return;
       }
-      c.friction_impulse -= n * n.dot(c.friction_impulse);
+      friction_impulse -= n * dot(n, friction_impulse);
+      friction_impulse.store(c.friction_impulse);
       apply(c.normal_impulse * n);
-      apply_tangential(c.friction_impulse);
+      apply_tangential(friction_impulse);
+      store_a();
       return;
     }
 
     // Spin adds nothing along the normal of a sphere contact, so vn needs no cross products.
-    float vn = (vb - va).dot(n);
+    float vn = dot(b.v - va, n);
     // A speculative contact that will not close this substep, and carries nothing: skip.
     if (idle && f.gap > 0.0f && vn + f.gap * inv_h >= 0.0f) return;
     const float normal_mass = 1.0f / (ma + mb);
@@ -209,13 +229,14 @@ struct Solver {
     // back into it would drain the impulse that holds the pile up.
     if (f.gap > 0.0f && !(pass == Pass::Relax && c.normal_impulse > 0.0f)) {
       bias = f.gap * inv_h;
-    } else if (pass == Pass::Solve && pseudo) {
-      Vec3& pa = pseudo[a];
+    } else if (pass == Pass::Solve) {
+      Packed3 pa = Packed3::load(pseudo[a]);
       const float push = std::max(push_out_rate * inv_h * f.gap, -push_out_speed);
-      const float pvn = (pseudo_b - pa).dot(n);
+      const float pvn = dot(b.pseudo - pa, n);
       const float dp = std::max(-normal_mass * (pvn + push), 0.0f);
       pa -= ma * dp * n;
-      pseudo_b += mb * dp * n;
+      b.pseudo += mb * dp * n;
+      pa.store(pseudo[a]);
     }
     float delta = -normal_mass * (vn + bias);
     float total = std::max(c.normal_impulse + delta, 0.0f);
@@ -225,23 +246,27 @@ struct Solver {
     applied = delta + impact;
     if (pass == Pass::Solve && (total > 0.0f || impact > 0.0f)) {
       pushed[a] = 1;
-      if (mb > 0.0f) pushed_partner = true;
+      if (mb > 0.0f) b.pushed = true;
     }
 
     const float limit = c.friction * (c.normal_impulse + impact);
-    if (limit == 0.0f && c.friction_impulse.isZero(0.0f)) return;
-    Vec3 at_a = va + (wa ? Vec3(wa->cross(ra * n)) : Vec3::Zero());
-    Vec3 at_b = vb + (wb ? Vec3(wb->cross(-rb * n)) : Vec3::Zero());
-    Vec3 vr = at_b - at_a;
-    Vec3 vt = vr - n * n.dot(vr);
-    const float tangent_mass = 1.0f / (ma + mb + ka * ra + kb * rb);
-    Vec3 old = c.friction_impulse;
-    Vec3 next = old - tangent_mass * vt;
-    next -= n * n.dot(next);
-    const float len2 = next.squaredNorm();
+    if (limit == 0.0f && friction_impulse.is_zero()) {
+      store_a();
+      return;
+    }
+    const Packed3 at_a = va + (spin_a ? cross(wa, ra * n) : Packed3::zero());
+    const Packed3 at_b = b.v + (spin_b ? cross(b.w, -rb * n) : Packed3::zero());
+    const Packed3 vr = at_b - at_a;
+    const Packed3 vt = vr - n * dot(n, vr);
+    const float tangent_mass = 1.0f / (ma + mb + ka * ra + b.spin * rb);
+    const Packed3 old = friction_impulse;
+    Packed3 next = old - tangent_mass * vt;
+    next -= n * dot(n, next);
+    const float len2 = squared_norm(next);
     if (len2 > limit * limit) next *= limit / std::sqrt(len2);
-    c.friction_impulse = next;
+    next.store(c.friction_impulse);
     apply_tangential(next - old);
+    store_a();
   }
 
   static bool carries_nothing(const Contact& c) {
@@ -254,24 +279,31 @@ struct Solver {
   Frame frame_for(Contact& c) const {
     if (pass == Pass::Relax || !keep_pair_frames || (pass == Pass::WarmStart && !pair_frames_current)) {
       const Frame f = pair_frame(c.a, c.b);
-      c.normal = f.n;
+      f.n.store(c.normal);
       c.gap = f.gap;
       return f;
     }
-    return {c.normal, c.gap, Vec3::Zero()};
+    return {Packed3::load(c.normal), c.gap, Packed3::zero()};
   }
 
-  template <Pass pass>
-  void pair(Contact& c) const {
+  template <Pass pass, bool spin>
+  [[gnu::always_inline]] void pair(Contact& c) const {
     const std::uint32_t b = c.b;
     Frame f = frame_for<pass>(c);
     if (pass == Pass::WarmStart && carries_nothing(c)) return;
-    const float mb = mobility(b);
-    bool pushed_b = false;
+    Partner partner{Packed3::load(v[b]),
+                    spin ? Packed3::load(w[b]) : Packed3::zero(),
+                    pass == Pass::Solve ? Packed3::load(pseudo[b]) : Packed3::zero(),
+                    mobility(b),
+                    r[b],
+                    spin ? spin_per_impulse[b] : 0.0f};
     float applied = 0.0f;
-    contact<pass>(c, f, v[b], w ? &w[b] : nullptr, mb, r[b], w ? spin_per_impulse[b] : 0.0f, 0.0f, pseudo[b],
-                  pushed_b, applied);
-    if (pushed_b) pushed[b] = 1;
+    contact<pass, spin, spin>(c, f, partner, 0.0f, applied);
+    // Stored whatever the contact did: storing an unchanged value changes nothing.
+    partner.v.store(v[b]);
+    if constexpr (spin) partner.w.store(w[b]);
+    if (pass == Pass::Solve) partner.pseudo.store(pseudo[b]);
+    if (partner.pushed) pushed[b] = 1;
     // A sleeper acts as fixed while it sleeps; a blow that would change the mover's speed by
     // more than wake_speed wakes it (the sleep system acts on the request after the step).
     if (pass == Pass::Solve && asleep[c.a] != asleep[b]) {
@@ -279,42 +311,40 @@ struct Solver {
       if (applied * inv_mass[mover] > wake_speed) wake_requests[sleeper] = 1;
     }
     if (pass == Pass::Relax && c.impact_shift != 0.0f) {
-      const float ma = mobility(c.a), total = ma + mb;
-      x[c.a] += f.n * (c.impact_shift * ma / total);
-      x[b] -= f.n * (c.impact_shift * mb / total);
+      const float ma = mobility(c.a), mb = partner.inv_mass, total = ma + mb;
+      (Packed3::load(x[c.a]) + f.n * (c.impact_shift * ma / total)).store(x[c.a]);
+      (Packed3::load(x[b]) - f.n * (c.impact_shift * mb / total)).store(x[b]);
       c.impact_shift = 0.0f;
       shifted->store(true, std::memory_order_relaxed);
     }
   }
 
-  template <Pass pass>
+  template <Pass pass, bool spin>
   void fixed(Contact& c) const {
     if (pass == Pass::WarmStart && carries_nothing(c)) return;
     Frame f = static_frame(c.a, c.b);
-    Vec3 surface = f.surface_velocity;
-    bool unused = false;
-    float applied = 0.0f;
-    Vec3 fixed_pseudo = Vec3::Zero();
     // A static partner does not spin, so its radius would only set the warm-start reach, which
     // is then measured in the sphere's own radius.
-    contact<pass>(c, f, surface, nullptr, 0.0f, r[c.a], 0.0f, -gravity.dot(f.n), fixed_pseudo, unused, applied);
+    Partner partner{f.surface_velocity, Packed3::zero(), Packed3::zero(), 0.0f, r[c.a], 0.0f};
+    float applied = 0.0f;
+    contact<pass, spin, false>(c, f, partner, -gravity.dot(f.n.vec3()), applied);
     if (pass == Pass::Relax && c.impact_shift != 0.0f) {
-      x[c.a] += f.n * c.impact_shift;
+      (Packed3::load(x[c.a]) + f.n * c.impact_shift).store(x[c.a]);
       c.impact_shift = 0.0f;
       shifted->store(true, std::memory_order_relaxed);
     }
   }
 
-  template <Pass pass>
+  template <Pass pass, bool spin>
   void sweep_local(SlabContacts& s) const {
     // Fixed contacts first: the floor's support then travels up a column of pairs (sorted
     // bottom-up, y being the fastest key) within one sweep. And last again when solving:
     // pairs pushed a sphere after its wall did, and the wall must have the last word or a
     // crowd can squeeze a sphere through it.
-    for (Contact& c : s.statics) fixed<pass>(c);
-    for (Contact& c : s.pairs) pair<pass>(c);
+    for (Contact& c : s.statics) fixed<pass, spin>(c);
+    for (Contact& c : s.pairs) pair<pass, spin>(c);
     if (pass == Pass::Solve)
-      for (Contact& c : s.statics) fixed<pass>(c);
+      for (Contact& c : s.statics) fixed<pass, spin>(c);
   }
 
   // Joint-collider guard, once after the last substep, with the colliders where the step
@@ -331,24 +361,32 @@ struct Solver {
         if (!(c.b & kColliderTag)) continue;
         const Frame f = static_frame(c.a, c.b);
         if (f.gap >= 0.0f) continue;
-        x[c.a] += f.n * f.gap;  // n points into the collider, gap < 0: outward
-        const float approach = (v[c.a] - f.surface_velocity).dot(f.n);
-        if (approach > 0.0f) v[c.a] -= approach * f.n;
+        const Vec3 n = f.n.vec3();
+        x[c.a] += n * f.gap;  // n points into the collider, gap < 0: outward
+        const float approach = (v[c.a] - f.surface_velocity.vec3()).dot(n);
+        if (approach > 0.0f) v[c.a] -= approach * n;
       }
     }
   }
 };
 
-// Even slabs in parallel, odd slabs in parallel, then serial contacts in slab order.
-template <Pass pass>
-void sweep(std::vector<SlabContacts>& slabs, const Solver& solver) {
+// Even slabs in parallel, odd slabs in parallel, then serial contacts in slab order. `spin`:
+// the spheres have angular state, decided once per pass so the contact loop carries no test.
+template <Pass pass, bool spin>
+void sweep_with(std::vector<SlabContacts>& slabs, const Solver& solver) {
   const int count = static_cast<int>(slabs.size());
   for (int parity = 0; parity < 2; ++parity) {
 #pragma omp parallel for schedule(dynamic, 1)
-    for (int s = parity; s < count; s += 2) solver.sweep_local<pass>(slabs[s]);
+    for (int s = parity; s < count; s += 2) solver.sweep_local<pass, spin>(slabs[s]);
   }
   for (SlabContacts& s : slabs)
-    for (Contact& c : s.serial) solver.pair<pass>(c);
+    for (Contact& c : s.serial) solver.pair<pass, spin>(c);
+}
+
+template <Pass pass>
+void sweep(std::vector<SlabContacts>& slabs, const Solver& solver) {
+  if (solver.w) sweep_with<pass, true>(slabs, solver);
+  else sweep_with<pass, false>(slabs, solver);
 }
 
 // Marks the rows with a sphere-sphere contact that carried load at the end of the last step:
