@@ -7,14 +7,14 @@
 // the state hash proves it. No FMA: a fused multiply-add rounds once where Eigen rounds twice.
 //
 // Loads and stores move 12 bytes, never 16, so a column of Vec3 needs no padding. Without SSE
-// the same operations run on three floats.
+// the same operations run on three floats (also with BALLPIT_PACKED3_SCALAR defined).
 #pragma once
 
 #include <cmath>
 
 #include "engine/math.h"
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(BALLPIT_PACKED3_SCALAR)
 #include <immintrin.h>
 #define BALLPIT_PACKED3_SSE 1
 #endif

@@ -21,9 +21,12 @@ struct SlabSearch {
   std::size_t material_count;
   const ContactSet& previous;                  // warm-start cache of the last step
   std::span<const std::uint32_t> new_to_old;
-  int slab_cells;                               // ny * nz
 
-  int slab_of(std::uint32_t row) const { return static_cast<int>(grid.cell_of_row[row]) / slab_cells; }
+  // Is row j in the slab or the next one? Rows are sorted by cell key and a slab is a key range,
+  // so it is a row range: two lookups instead of a division of j's key per pair.
+  bool local(std::uint32_t j, int slab) const {
+    return j >= grid.slab_row_begin(slab) && j < grid.slab_row_begin(std::min(slab + 2, grid.nx));
+  }
 
   const WarmStartEntry* warm(std::uint32_t old_row, std::uint32_t partner) const {
     if (old_row + 1 >= previous.warm_begin.size()) return nullptr;
@@ -54,8 +57,7 @@ struct SlabSearch {
       w = warm(new_to_old[i], entity[j]);
       if (!w) reversed = (w = warm(new_to_old[j], entity[i])) != nullptr;
     }
-    int sj = slab_of(j);
-    auto& list = (sj == slab || sj == slab + 1) ? out.pairs : out.serial;
+    auto& list = local(j, slab) ? out.pairs : out.serial;
     list.push_back(make(i, j, m, w, reversed));
   }
 
@@ -208,8 +210,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     pair_material,
                     mc,
                     contacts,
-                    grid.new_to_old,
-                    grid.ny * grid.nz};
+                    grid.new_to_old};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
   const Pit& pit = world.pit;
   const int planes = pit.plane_count();
