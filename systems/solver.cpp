@@ -107,15 +107,15 @@ struct Solver {
   }
 
   // The partner of a contact as the contact sees it, in registers: a sphere's state, loaded by
-  // the caller and stored back if `moved`, or a static partner's (surface velocity, no mass,
-  // no spin), which nothing the contact does outlives.
+  // the caller and stored back after the contact, or a static partner's (surface velocity, no
+  // mass, no spin), which nothing the contact does outlives.
   struct Partner {
     Packed3 v;       // velocity (unit: m/s)
     Packed3 w;       // angular velocity, read only when the partner spins (unit: rad/s)
     Packed3 pseudo;  // push-out velocity this substep (unit: m/s)
     float inv_mass;  // 0 for a static partner or a sleeper (unit: 1/kg)
     float radius;    // (unit: m)
-    float spin;      // spin per unit tangential impulse (unit: rad/(m N s))
+    float spin;      // spin per unit of tangential impulse (unit: 1/(kg m), rad/s per N s)
     bool pushed = false;  // Solve: the contact acted on it
   };
 
