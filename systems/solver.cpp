@@ -129,8 +129,8 @@ struct Solver {
     const std::uint32_t a = c.a;
     const float ma = mobility(a), mb = b.inv_mass;
     if (ma + mb == 0.0f) return;
+    const bool idle = carries_nothing(c);
     Packed3 friction_impulse = Packed3::load(c.friction_impulse);
-    const bool idle = c.normal_impulse == 0.0f && friction_impulse.is_zero();
     Packed3 va = Packed3::load(v[a]);
     Packed3 wa = spin_a ? Packed3::load(w[a]) : Packed3::zero();
     const float ra = r[a], rb = b.radius;
