@@ -20,8 +20,19 @@
 // chain through a sphere shared by consecutive contacts: reordering each slab by a greedy
 // colouring (no two contacts of a colour share a sphere, so the CPU may overlap them) cost the
 // same (100k settled pile, 1 thread: 212 ms either way, not counting the 18 ms the colouring
-// itself took), and making its data-dependent branches branchless did not help either. The
-// next step is fewer instructions per contact: coloured contacts, several at once in SIMD lanes.
+// itself took), and making its data-dependent branches branchless did not help either.
+//
+// SIMD lanes need not change the result: take batches of four pairs from the front of a slab's
+// list (a 32-pair window), a pair joining only once every earlier pair that shares a sphere
+// with it is batched. Each sphere's pairs are then solved in list order and a batch's spheres
+// are disjoint, so a batch solved at once is bit for bit the list (88% of lanes used). Tried on
+// Relax with four AoS contacts in one AVX-512 register, one per 128-bit lane (branch
+// wip/wide-relax), it kept every hash and saved nothing: settled 100k, 1 thread, 237-240 ms per
+// step against 236-250 ms. Moving AoS contacts and spheres in and out of lanes (gathers,
+// inserts, extracts) costs what the arithmetic saves, and the batch order alone, solved one by
+// one, cost 274 ms. The next step is data already in lanes: contacts stored batch by batch, a
+// column per field. (Code built for AVX-512 must also be built with -ffp-contract=off, or the
+// scalar code inlined into it fuses multiply-adds and the hashes change.)
 #pragma once
 
 #include "engine/system.h"
