@@ -2,6 +2,7 @@
 // setting of the sweep and prints one JSON line per point on stdout (progress on stderr).
 // scripts/profile_speed_error.sh turns the lines into the CSV, the Pareto plot and the table.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -57,8 +58,28 @@ int main(int argc, char** argv) {
     for (const SolverPoint& p : sweep_points()) std::cout << p.to_json().dump() << "\n";
     return 0;
   }
-  const std::set<std::string> want_cases = split(cases), want_points = split(points);
-  auto wanted = [&](const SolverPoint& p) { return want_points.empty() || want_points.count(p.label) > 0; };
+  const std::set<std::string> want_cases = split(cases);
+  // Labels may hold commas themselves ("dt=1/30,substeps=16"), so the list is matched against
+  // the labels, longest first: each takes its place out of the list, and what no label takes
+  // is an error.
+  std::set<std::string> want_points;
+  if (!points.empty()) {
+    std::vector<std::string> labels;
+    for (const SolverPoint& p : sweep_points()) labels.push_back(p.label);
+    std::stable_sort(labels.begin(), labels.end(), [](const std::string& a, const std::string& b) { return a.size() > b.size(); });
+    std::string rest = "," + points + ",";
+    for (const std::string& label : labels)
+      for (std::size_t at; (at = rest.find("," + label + ",")) != std::string::npos;) {
+        rest.erase(at, label.size() + 1);
+        want_points.insert(label);
+      }
+    if (rest != ",") {
+      std::cerr << "speed_error: --points: no sweep point named '" << rest.substr(1, rest.size() - 2)
+                << "' (see --list)\n";
+      return 2;
+    }
+  }
+  auto wanted = [&](const SolverPoint& p) { return points.empty() || want_points.count(p.label) > 0; };
   using Runner = nlohmann::ordered_json (*)(const SolverPoint&, const CaseOptions&);
   const std::pair<const char*, Runner> runners[] = {
       {"bounce", run_bounce}, {"cradle", run_cradle}, {"stack", run_stack},
