@@ -172,6 +172,10 @@ std::string format_value(float v) {
 
 std::string tolerance_label(double tolerance) { return "tolerance=" + format_value(static_cast<float>(tolerance)); }
 
+std::string substeps_push_label(int substeps, float push_out_rate) {
+  return "substeps=" + std::to_string(substeps) + ",push_rate=" + format_value(push_out_rate);
+}
+
 }  // namespace
 
 std::vector<SolverPoint> sweep_points() {
@@ -191,7 +195,7 @@ std::vector<SolverPoint> sweep_points() {
   // (alone, substeps=6 fails only the stack, which push_rate=0.4 and 0.8 hold better).
   for (int sub : {4, 6})
     for (float f : {0.4f, 0.8f})
-      point("substeps=" + std::to_string(sub) + ",push_rate=" + format_value(f), [sub, f](SolverPoint& p) {
+      point(substeps_push_label(sub, f), [sub, f](SolverPoint& p) {
         p.substeps = sub;
         p.push_out_rate = f;
       });
@@ -225,7 +229,7 @@ std::vector<SolverPoint> big_pour_points() {
     // run: whether it holds the pour's 1% r at 100k decides whether it may become the default.
     if (p.label == "default" || p.label == "substeps=" + std::to_string(d.substeps / 2) ||
         p.label == "substeps=" + std::to_string(2 * d.substeps) || p.label == tolerance_label(kTolerancePoints[0]) ||
-        p.label == "substeps=6,push_rate=0.4")
+        p.label == substeps_push_label(6, 0.4f))
       out.push_back(p);
   return out;
 }

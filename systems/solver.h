@@ -30,7 +30,8 @@
 // wip/wide-relax), it kept every hash and saved nothing: settled 100k, 1 thread, 237-240 ms per
 // step against 236-250 ms. Moving AoS contacts and spheres in and out of lanes (gathers,
 // inserts, extracts) costs what the arithmetic saves, and the batch order alone, solved one by
-// one, cost 274 ms. The next step is data already in lanes: contacts stored batch by batch, a
+// one, cost 274 ms. Eight lanes, gathered in and stored out by transposes, did no better
+// (245-320 ms against 235-263 ms, three interleaved rounds). The next step is data already in lanes: contacts stored batch by batch, a
 // column per field. (Code built for AVX-512 must also be built with -ffp-contract=off, or the
 // scalar code inlined into it fuses multiply-adds and the hashes change.)
 #pragma once
