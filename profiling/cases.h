@@ -60,8 +60,8 @@ inline constexpr double kTolerancePoints[] = {0.01, 0.003, 0.001};
 // push-out speed cap, step size at fixed and at scaled substeps, restitution threshold), then
 // tolerance mode at each of kTolerancePoints (from the default settings).
 std::vector<SolverPoint> sweep_points();
-// The few points run on the expensive big pour: the default, half and twice its substeps, and
-// the loosest tolerance.
+// The few points run on the expensive big pour: the default, half and twice its substeps, the
+// previous default, and the loosest tolerance.
 std::vector<SolverPoint> big_pour_points();
 
 // Results (errors, state hashes) are the same for any thread count: the engine is deterministic.

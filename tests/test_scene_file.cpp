@@ -110,7 +110,7 @@ SceneFile every_field_moved() {
   s.features.angular = FeatureSwitch::On;
   s.features.character = FeatureSwitch::Off;
   s.solver.substeps = 3;
-  s.solver.push_out_rate = 0.4f;
+  s.solver.push_out_rate = 0.3f;
   s.solver.push_out_speed = 2.0f;
   s.solver.restitution_threshold = 0.0f;
   s.solver.linear_damping = 0.1f;
