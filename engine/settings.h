@@ -49,8 +49,7 @@ struct SolverSettings {
   int substeps = 6;
   // Fraction of an overlap pushed out per substep, through split-impulse pseudo-velocity
   // (unitless, 0..1). Pseudo-velocity is forgotten after each move, so a fast rate costs no
-  // energy; above about 0.5 pushes along a chain of overlaps start to overshoot (0.8 pressed a
-  // ball of a crowd spawned inside itself half a radius into the floor).
+  // energy; above about 0.5 pushes along a chain of overlaps start to overshoot.
   float push_out_rate = 0.4f;
   // Cap on the speed at which overlapping spheres are pushed apart. Deep overlaps (spawned
   // inside each other) separate over several steps instead of jumping apart (unit: m/s).
