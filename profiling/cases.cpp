@@ -172,8 +172,10 @@ std::string format_value(float v) {
 
 std::string tolerance_label(double tolerance) { return "tolerance=" + format_value(static_cast<float>(tolerance)); }
 
+std::string substeps_label(int substeps) { return "substeps=" + std::to_string(substeps); }
+
 std::string substeps_push_label(int substeps, float push_out_rate) {
-  return "substeps=" + std::to_string(substeps) + ",push_rate=" + format_value(push_out_rate);
+  return substeps_label(substeps) + ",push_rate=" + format_value(push_out_rate);
 }
 
 }  // namespace
@@ -188,7 +190,7 @@ std::vector<SolverPoint> sweep_points() {
     out.push_back(p);
   };
   for (int s : {1, 2, 3, 4, 6, 8, 12, 16})
-    if (s != d.substeps) point("substeps=" + std::to_string(s), [s](SolverPoint& p) { p.substeps = s; });
+    if (s != d.substeps) point(substeps_label(s), [s](SolverPoint& p) { p.substeps = s; });
   for (float f : {0.05f, 0.1f, 0.2f, 0.4f, 0.8f})
     if (f != d.push_out_rate) point("push_rate=" + format_value(f), [f](SolverPoint& p) { p.push_out_rate = f; });
   // Substeps and push-out rate trade against each other (a faster push buys back part of what
@@ -204,12 +206,12 @@ std::vector<SolverPoint> sweep_points() {
     if (v != d.push_out_speed) point("push_out=" + format_value(v), [v](SolverPoint& p) { p.push_out_speed = v; });
   // Step size: alone (fewer or more substeps per second), and with the substep rate kept.
   point("dt=1/30", [](SolverPoint& p) { p.dt = 1.0f / 30.0f; });
-  point("dt=1/30,substeps=" + std::to_string(2 * d.substeps), [&](SolverPoint& p) {
+  point("dt=1/30," + substeps_label(2 * d.substeps), [&](SolverPoint& p) {
     p.dt = 1.0f / 30.0f;
     p.substeps = 2 * d.substeps;
   });
   if (d.substeps % 2 == 0)
-    point("dt=1/120,substeps=" + std::to_string(d.substeps / 2), [&](SolverPoint& p) {
+    point("dt=1/120," + substeps_label(d.substeps / 2), [&](SolverPoint& p) {
       p.dt = 1.0f / 120.0f;
       p.substeps = d.substeps / 2;
     });
@@ -227,9 +229,8 @@ std::vector<SolverPoint> big_pour_points() {
   std::vector<SolverPoint> out;
   for (const SolverPoint& p : sweep_points())
     // And the default before this one, which the big pour measures the move against.
-    if (p.label == "default" || p.label == "substeps=" + std::to_string(d.substeps / 2) ||
-        p.label == "substeps=" + std::to_string(2 * d.substeps) || p.label == tolerance_label(kTolerancePoints[0]) ||
-        p.label == substeps_push_label(8, 0.2f))
+    if (p.label == "default" || p.label == substeps_label(d.substeps / 2) || p.label == substeps_label(2 * d.substeps) ||
+        p.label == tolerance_label(kTolerancePoints[0]) || p.label == substeps_push_label(8, 0.2f))
       out.push_back(p);
   return out;
 }

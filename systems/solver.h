@@ -31,9 +31,10 @@
 // step against 236-250 ms. Moving AoS contacts and spheres in and out of lanes (gathers,
 // inserts, extracts) costs what the arithmetic saves, and the batch order alone, solved one by
 // one, cost 274 ms. Eight lanes, gathered in and stored out by transposes, did no better
-// (245-320 ms against 235-263 ms, three interleaved rounds). The next step is data already in lanes: contacts stored batch by batch, a
-// column per field. (Code built for AVX-512 must also be built with -ffp-contract=off, or the
-// scalar code inlined into it fuses multiply-adds and the hashes change.)
+// (245-320 ms against 235-263 ms, three interleaved rounds). The next step is data already in
+// lanes: contacts stored batch by batch, a column per field. (Code built for AVX-512 must also
+// be built with -ffp-contract=off, or the scalar code inlined into it fuses multiply-adds and
+// the hashes change.)
 #pragma once
 
 #include "engine/system.h"
