@@ -43,6 +43,44 @@ void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity, std
   }
 }
 
+void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s) {
+  const Vec3 dv = gravity * h;
+  const float linear = 1.0f / (1.0f + h * s.linear_damping);
+  const float angular = 1.0f / (1.0f + h * s.angular_damping);  // spin r w damps as w does
+  const std::int64_t n = static_cast<std::int64_t>(bodies.rows);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    SolverBody& b = bodies.body[i];
+    b.pseudo = {0.0f, 0.0f, 0.0f, b.pseudo.w};
+    Quad& spin = b.spin;
+    spin.w = 0.0f;  // pushed
+    Quad& v = b.velocity;
+    if (v.w == 0.0f) continue;  // asleep: immobile this step
+    v = {(v.x + dv.x()) * linear, (v.y + dv.y()) * linear, (v.z + dv.z()) * linear, v.w};
+    if (s.angular_damping > 0.0f) spin = {spin.x * angular, spin.y * angular, spin.z * angular, 0.0f};
+  }
+}
+
+void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity) {
+  const Vec3 flight_correction = -0.5f * h * h * gravity;
+  const std::int64_t n = static_cast<std::int64_t>(bodies.rows);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    SolverBody& b = bodies.body[i];
+    const Quad& v = b.velocity;
+    if (v.w == 0.0f) continue;
+    Quad& x = b.position;
+    const Quad& p = b.pseudo;
+    float px = x.x + v.x * h, py = x.y + v.y * h, pz = x.z + v.z * h;
+    if (b.spin.w == 0.0f) {  // not pushed: free flight
+      px += flight_correction.x();
+      py += flight_correction.y();
+      pz += flight_correction.z();
+    }
+    x = {px + p.x * h, py + p.y * h, pz + p.z * h, x.w};
+  }
+}
+
 Access IntegrateSystem::access() const {
   Access a;
   a.reads = {ColumnId::Gravity, ColumnId::SphereInvMass, ColumnId::SphereSleep};

@@ -1,8 +1,9 @@
 // Integration: velocities from gravity and damping, positions from velocities. A sphere in
 // free flight moves on the exact parabola (x += v h - g h^2 / 2, with v already kicked); one
 // that a contact pushed this substep moves by symplectic Euler (x += v h), which keeps resting
-// contacts exactly at rest. The solver calls these kernels once per substep; IntegrateSystem
-// runs them alone for scenes with no collisions at all.
+// contacts exactly at rest. The solver runs the SolverBodies overloads once per substep on its
+// own copy of the state (systems/solver_bodies.h); IntegrateSystem runs the SphereTable ones
+// alone for scenes with no collisions at all.
 // Reads: gravity, inverse mass, sleep. Writes: positions, velocities, angular velocities.
 #pragma once
 
@@ -11,6 +12,7 @@
 
 #include "engine/math.h"
 #include "engine/system.h"
+#include "systems/solver_bodies.h"
 
 namespace ballpit {
 
@@ -24,6 +26,11 @@ void integrate_velocities(SphereTable& spheres, const Vec3& gravity, float h, co
 // `push_out` (or empty) adds each row's push-out velocity for this move only.
 void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity,
                          std::span<const std::uint8_t> pushed = {}, std::span<const Vec3> push_out = {});
+
+// The same on the solver's bodies, which also carry the substep's flags: the velocity kick clears
+// each body's pushed flag and push-out velocity for the substep ahead; the move reads them.
+void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s);
+void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity);
 
 class IntegrateSystem : public System {
  public:

@@ -1,0 +1,162 @@
+#include "systems/contact_batches.h"
+
+#include <algorithm>
+#include <bit>
+
+#include "systems/batch_kernels.h"
+#include "systems/solver_bodies.h"
+
+namespace ballpit {
+
+namespace {
+
+// Batches open at once. A contact that finds no open batch after the last one holding either of
+// its spheres opens a new one, and when kOpenBatches are open the oldest is closed, full or not.
+// More open batches fill more lanes but spread each batch over more of the list.
+constexpr std::size_t kOpenBatches = 32;
+
+// Batches in index order; last[row] is stamp + one past the index of the latest batch holding
+// the row (less than stamp: none in this packing). A contact joins the earliest open batch after
+// every batch that already holds one of its spheres, so each sphere meets its contacts in list
+// order and no batch holds a sphere twice.
+class Window {
+ public:
+  Window(BatchList& out, const PackInput& in)
+      : out_(out), last_(in.last_batch), stamp_(in.stamp), pad_rows_(in.pad_rows) {}
+
+  // The lane where the contact of sphere rows a and b (b == a: a plane) goes, in its batch.
+  struct Lane {
+    ContactBatch& batch;
+    int lane;
+  };
+  Lane add(std::uint32_t a, std::uint32_t b, std::uint32_t source) {
+    const std::uint32_t after = std::max({last_[a], last_[b], stamp_ + static_cast<std::uint32_t>(first_open_)});
+    std::size_t k = after - stamp_;
+    while (k < out_.batches.size() && out_.batches[k].used == kAllLanes) ++k;
+    if (k == out_.batches.size()) {
+      if (k - first_open_ == kOpenBatches) ++first_open_;  // the oldest closes
+      open_new();
+    }
+    ContactBatch& batch = out_.batches[k];
+    const int lane = std::countr_one(batch.used);  // lanes fill in order
+    batch.used |= 1u << lane;
+    out_.source[k * kBatchLanes + lane] = source;
+    last_[a] = last_[b] = stamp_ + static_cast<std::uint32_t>(k + 1);
+    return {batch, lane};
+  }
+
+ private:
+  static constexpr std::uint32_t kAllLanes = (1u << kBatchLanes) - 1u;
+
+  void open_new() {
+    ContactBatch& batch = out_.batches.emplace_back();
+    batch.used = batch.loaded_last_step = batch.free_pair = 0;
+    out_.source.resize(out_.source.size() + kBatchLanes, kNoSource);
+  }
+
+  BatchList& out_;
+  std::vector<std::uint32_t>& last_;
+  const std::uint32_t stamp_;
+  const std::uint32_t pad_rows_;
+  std::size_t first_open_ = 0;
+};
+
+// What every contact brings to its lane: rows, impulses, material, flags.
+void fill(ContactBatch& batch, int lane, const Contact& c, float reach) {
+  batch.a[lane] = c.a;
+  batch.b[lane] = c.b;
+  batch.normal_impulse[lane] = c.normal_impulse;
+  batch.fx[lane] = c.friction_impulse.x();
+  batch.fy[lane] = c.friction_impulse.y();
+  batch.fz[lane] = c.friction_impulse.z();
+  batch.friction[lane] = c.friction;
+  batch.restitution[lane] = c.restitution;
+  batch.reach[lane] = reach;
+  batch.impact_shift[lane] = c.impact_shift;
+  if (c.loaded_last_step) batch.loaded_last_step |= 1u << lane;
+}
+
+void start(ContactLists lists, BatchList& out) {
+  out.batches.clear();
+  out.source.clear();
+  std::size_t contacts = 0;
+  for (const std::vector<Contact>* list : lists) contacts += list->size();
+  // Room for 90% full batches without growing: growing copies every batch made so far.
+  out.batches.reserve(contacts * 10 / (9 * kBatchLanes) + kOpenBatches);
+}
+
+// The lanes no contact took: immobile padding bodies with a finite frame and nothing to apply.
+void pad_empty_lanes(BatchList& out, std::uint32_t pad_rows) {
+  for (ContactBatch& batch : out.batches)
+    for (int lane = std::countr_one(batch.used); lane < kBatchLanes; ++lane) {
+      batch.a[lane] = SolverBodies::pad_a(pad_rows, lane);
+      batch.b[lane] = SolverBodies::pad_b(pad_rows, lane);
+      batch.nx[lane] = batch.nz[lane] = 0.0f;
+      batch.ny[lane] = batch.gap[lane] = 1.0f;
+      batch.plane_offset[lane] = batch.normal_impulse[lane] = 0.0f;
+      batch.fx[lane] = batch.fy[lane] = batch.fz[lane] = 0.0f;
+      batch.friction[lane] = batch.restitution[lane] = batch.reach[lane] = batch.impact_shift[lane] = 0.0f;
+    }
+}
+
+}  // namespace
+
+// Calls visit(list, index) for the contacts of all lists, one from each list in turn.
+template <class Visit>
+void in_turn(ContactLists lists, Visit&& visit) {
+  std::size_t longest = 0;
+  for (const std::vector<Contact>* list : lists) longest = std::max(longest, list->size());
+  for (std::uint32_t i = 0; i < longest; ++i)
+    for (std::size_t l = 0; l < lists.size(); ++l)
+      if (i < lists[l]->size()) visit(l, i);
+}
+
+void pack_pairs(ContactLists lists, const PackInput& in, BatchList& out) {
+  start(lists, out);
+  Window window(out, in);
+  in_turn(lists, [&](std::size_t l, std::uint32_t i) {
+    const Contact& c = (*lists[l])[i];
+    const Window::Lane slot = window.add(c.a, c.b, source_of(l, i));
+    fill(slot.batch, slot.lane, c, -kWarmStartReach * std::min(in.radius[c.a], in.radius[c.b]));
+    if (!in.in_pile[c.a] && !in.in_pile[c.b]) slot.batch.free_pair |= 1u << slot.lane;
+  });
+  pad_empty_lanes(out, in.pad_rows);
+}
+
+void pack_planes(ContactLists lists, const PackInput& in, BatchList& out) {
+  start(lists, out);
+  Window window(out, in);
+  in_turn(lists, [&](std::size_t l, std::uint32_t i) {
+    const Contact& c = (*lists[l])[i];
+    if (!(c.b & kPlaneTag)) return;
+    const Window::Lane slot = window.add(c.a, c.a, source_of(l, i));
+    // A static partner's radius would only set the warm-start reach, which is then measured in
+    // the sphere's own radius.
+    fill(slot.batch, slot.lane, c, -kWarmStartReach * in.radius[c.a]);
+    const int plane = static_cast<int>(c.b & ~kTagMask);
+    const Vec3 n = -in.pit.plane_normal(plane);  // from the sphere into the plane
+    slot.batch.nx[slot.lane] = n.x();
+    slot.batch.ny[slot.lane] = n.y();
+    slot.batch.nz[slot.lane] = n.z();
+    slot.batch.plane_offset[slot.lane] = in.pit.plane_offset(plane);
+    slot.batch.free_pair |= 1u << slot.lane;  // a plane never rests in a pile
+  });
+  pad_empty_lanes(out, in.pad_rows);
+}
+
+void unpack_impulses(const BatchList& batches, ContactLists lists) {
+  constexpr std::uint32_t kIndexMask = (1u << kSourceIndexBits) - 1u;
+  for (std::size_t k = 0; k < batches.batches.size(); ++k) {
+    const ContactBatch& batch = batches.batches[k];
+    for (int lane = 0; lane < kBatchLanes; ++lane) {
+      const std::uint32_t source = batches.source[k * kBatchLanes + lane];
+      if (source == kNoSource) continue;
+      Contact& c = (*lists[source >> kSourceIndexBits])[source & kIndexMask];
+      c.normal_impulse = batch.normal_impulse[lane];
+      c.friction_impulse = Vec3(batch.fx[lane], batch.fy[lane], batch.fz[lane]);
+      c.impact_shift = batch.impact_shift[lane];
+    }
+  }
+}
+
+}  // namespace ballpit

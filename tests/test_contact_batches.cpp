@@ -1,0 +1,150 @@
+// Batching sphere pairs and plane contacts into lanes: what the solver relies on to solve a batch
+// at once and still get Gauss-Seidel's result in list order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <set>
+
+#include "systems/contact_batches.h"
+#include "systems/solver_bodies.h"
+
+using namespace ballpit;
+
+namespace {
+
+constexpr std::uint32_t kRows = 600;
+
+Contact pair(std::uint32_t a, std::uint32_t b) {
+  Contact c{};
+  c.a = a;
+  c.b = b;
+  return c;
+}
+
+// Lists over disjoint row ranges, as slabs of one parity are: each row meets a few neighbours,
+// more often close rows than far ones, like a grid-sorted pile.
+std::vector<std::vector<Contact>> random_lists(unsigned seed, int lists, std::uint32_t rows_each) {
+  std::mt19937 rng(seed);
+  std::vector<std::vector<Contact>> out(lists);
+  for (int l = 0; l < lists; ++l) {
+    const std::uint32_t first = l * rows_each;
+    std::uniform_int_distribution<std::uint32_t> step(1, 40), count(0, 6);
+    for (std::uint32_t a = first; a + 1 < first + rows_each; ++a)
+      for (std::uint32_t k = count(rng); k > 0; --k) out[l].push_back(pair(a, std::min(a + step(rng), first + rows_each - 1)));
+  }
+  return out;
+}
+
+struct Packed {
+  BatchList batches;
+  std::vector<std::vector<Contact>> lists;
+};
+
+Packed pack(std::vector<std::vector<Contact>> lists, std::vector<std::uint32_t>& last) {
+  Packed p{{}, std::move(lists)};
+  std::vector<std::vector<Contact>*> views;
+  for (auto& l : p.lists) views.push_back(&l);
+  const std::vector<float> radius(kRows + SolverBodies::kPadRows, 0.04f);
+  const std::vector<std::uint8_t> in_pile(kRows + SolverBodies::kPadRows, 0);
+  const Pit pit;
+  const PackInput in{radius, in_pile, pit, kRows, last, kStampStride};
+  pack_pairs(views, in, p.batches);
+  return p;
+}
+
+}  // namespace
+
+TEST(ContactBatches, EveryContactHasOneLaneAndNoBatchHoldsASphereTwice) {
+  std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
+  const Packed p = pack(random_lists(1, 3, kRows / 3), last);
+  std::size_t contacts = 0;
+  for (const auto& l : p.lists) contacts += l.size();
+  std::set<std::uint32_t> seen;
+  for (std::size_t k = 0; k < p.batches.batches.size(); ++k) {
+    const ContactBatch& batch = p.batches.batches[k];
+    std::set<std::uint32_t> rows;
+    for (int lane = 0; lane < kBatchLanes; ++lane) {
+      const std::uint32_t source = p.batches.source[k * kBatchLanes + lane];
+      const bool used = batch.used >> lane & 1u;
+      ASSERT_EQ(used, source != kNoSource) << "batch " << k << " lane " << lane;
+      if (!used) {
+        // Padding: two immobile bodies of its own, past the last sphere.
+        EXPECT_EQ(batch.a[lane], SolverBodies::pad_a(kRows, lane));
+        EXPECT_EQ(batch.b[lane], SolverBodies::pad_b(kRows, lane));
+        continue;
+      }
+      EXPECT_TRUE(seen.insert(source).second) << "contact packed twice";
+      const Contact& c = p.lists[source >> kSourceIndexBits][source & ((1u << kSourceIndexBits) - 1u)];
+      EXPECT_EQ(batch.a[lane], c.a);
+      EXPECT_EQ(batch.b[lane], c.b);
+      EXPECT_TRUE(rows.insert(c.a).second) << "batch " << k << " holds row " << c.a << " twice";
+      EXPECT_TRUE(rows.insert(c.b).second) << "batch " << k << " holds row " << c.b << " twice";
+    }
+  }
+  EXPECT_EQ(seen.size(), contacts);
+}
+
+TEST(ContactBatches, EachSphereMeetsItsContactsInListOrder) {
+  // What makes a batch solved at once equal to its contacts solved one by one in list order: a
+  // later contact of a sphere is never in the same or an earlier batch than an earlier one.
+  std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
+  const Packed p = pack(random_lists(2, 2, kRows / 2), last);
+  std::map<std::uint32_t, std::size_t> batch_of;  // source -> batch
+  for (std::size_t k = 0; k < p.batches.batches.size(); ++k)
+    for (int lane = 0; lane < kBatchLanes; ++lane)
+      if (const std::uint32_t source = p.batches.source[k * kBatchLanes + lane]; source != kNoSource) batch_of[source] = k;
+  for (std::size_t l = 0; l < p.lists.size(); ++l) {
+    std::map<std::uint32_t, std::size_t> latest;  // row -> batch of its latest contact so far
+    for (std::uint32_t i = 0; i < p.lists[l].size(); ++i) {
+      const Contact& c = p.lists[l][i];
+      const std::size_t k = batch_of.at(source_of(l, i));
+      for (std::uint32_t row : {c.a, c.b}) {
+        if (auto it = latest.find(row); it != latest.end()) {
+          EXPECT_GT(k, it->second) << "row " << row;
+        }
+      }
+      latest[c.a] = latest[c.b] = k;
+    }
+  }
+}
+
+TEST(ContactBatches, ListsThatShareNoSphereFillTheLanesTogether) {
+  // One list is a chain: a contact often waits for the one before. Four such lists packed in
+  // turn offer a batch up to four contacts for every one a single list offers (measured: 16% of
+  // the lanes filled by one of these lists, 59% by four; a settled pile's slabs: 59% and 97%).
+  std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
+  auto lanes_used = [](const Packed& p) {
+    std::size_t used = 0;
+    for (const ContactBatch& b : p.batches.batches) used += static_cast<std::size_t>(__builtin_popcount(b.used));
+    return static_cast<double>(used) / static_cast<double>(p.batches.batches.size() * kBatchLanes);
+  };
+  const auto lists = random_lists(3, 4, kRows / 4);
+  const double one = lanes_used(pack({lists[0]}, last));
+  std::fill(last.begin(), last.end(), 0u);
+  const double four = lanes_used(pack(lists, last));
+  std::printf("[ fill ] one list %.0f%% of the lanes, four lists %.0f%%\n", 100 * one, 100 * four);
+  EXPECT_GT(four, 3.0 * one);
+}
+
+TEST(ContactBatches, ImpulsesComeBackToTheContactsTheyCameFrom) {
+  std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
+  Packed p = pack(random_lists(4, 2, kRows / 2), last);
+  for (std::size_t k = 0; k < p.batches.batches.size(); ++k)
+    for (int lane = 0; lane < kBatchLanes; ++lane) {
+      ContactBatch& batch = p.batches.batches[k];
+      batch.normal_impulse[lane] = static_cast<float>(batch.a[lane]) + 0.5f;
+      batch.fx[lane] = static_cast<float>(batch.b[lane]);
+      batch.fy[lane] = batch.fz[lane] = batch.impact_shift[lane] = 0.0f;
+    }
+  std::vector<std::vector<Contact>*> views;
+  for (auto& l : p.lists) views.push_back(&l);
+  unpack_impulses(p.batches, views);
+  for (const auto& l : p.lists)
+    for (const Contact& c : l) {
+      EXPECT_EQ(c.normal_impulse, static_cast<float>(c.a) + 0.5f);
+      EXPECT_EQ(c.friction_impulse.x(), static_cast<float>(c.b));
+    }
+}
