@@ -20,6 +20,10 @@ namespace {
 constexpr std::uint32_t kFastRow = 1;    // margin beyond what a one-cell search covers
 constexpr std::uint32_t kAsleepRow = 2;
 
+// Bit of a partner in a row's summary of its warm-start entries (NarrowphaseScratch::cached):
+// Fibonacci hashing of the partner to one of 32 bits.
+inline std::uint32_t partner_bit(std::uint32_t partner) { return 1u << ((partner * 0x9E3779B1u) >> 27); }
+
 // Slow spheres test their candidates this many rows at a time (one SSE register of floats).
 constexpr std::uint32_t kLanes = 4;
 
@@ -84,34 +88,37 @@ struct SlabSearch {
   // `reversed`: the cached contact had a and b the other way round (row order decides which
   // sphere generates a pair, and rows are re-sorted every step), so its friction impulse, which
   // acts on a as -F and on b as +F, changes sign. The normal impulse is along a -> b either way.
+  // A pair without an entry starts from zero impulses: it reads them from kNoEntry rather than
+  // branching on whether it has one, which a third of all pairs do not, at no predictable place.
   static Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w,
                       bool reversed = false) {
-    Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f, false, Vec3::Zero(), 0.0f};
-    if (w) {
-      c.normal_impulse = w->normal_impulse;
-      c.friction_impulse = reversed ? Vec3(-w->friction_impulse) : w->friction_impulse;
-      c.loaded_last_step = w->normal_impulse > 0.0f;
-    }
-    return c;
+    static const WarmStartEntry kNoEntry{0, 0.0f, Vec3::Zero()};
+    const WarmStartEntry& e = w ? *w : kNoEntry;
+    const Vec3 friction = reversed ? Vec3(-e.friction_impulse) : e.friction_impulse;
+    return {a, b, e.normal_impulse, friction, m.friction, m.restitution, 0.0f, e.normal_impulse > 0.0f, Vec3::Zero(), 0.0f};
   }
 
   // What the contacts of generator row i share, looked up once for all of them.
   struct Generator {
     std::uint32_t i;
     std::uint32_t entity;
+    std::uint32_t entity_bit;              // partner_bit(entity)
     const Material* materials;             // i's row of pair_material
     std::span<const WarmStartEntry> warm;  // i's entries of last step
   };
 
   Generator generator(std::uint32_t i) const {
-    return {i, entity[i], &pair_material[material[i] * material_count],
+    return {i, entity[i], partner_bit(entity[i]), &pair_material[material[i] * material_count],
             new_to_old.empty() ? std::span<const WarmStartEntry>{} : cached(new_to_old[i])};
   }
 
+  // The partner's own entries are searched only if its summary allows: most pairs that i did
+  // not cache were not cached at all (they carried no impulse), and the partner's entries lie
+  // ahead in the cache, where reading them costs a miss.
   Contact pair(const Generator& g, std::uint32_t j) const {
     const WarmStartEntry* w = find(g.warm, entity[j]);
     bool reversed = false;
-    if (!w && !new_to_old.empty()) reversed = (w = find(cached(new_to_old[j]), g.entity)) != nullptr;
+    if ((scratch.cached[j] & g.entity_bit) && !w) reversed = (w = find(cached(new_to_old[j]), g.entity)) != nullptr;
     return make(g.i, j, g.materials[material[j]], w, reversed);
   }
 
@@ -313,6 +320,9 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   const std::size_t padded = n + kLanes - 1;
   for (auto* column : {&scratch.x, &scratch.y, &scratch.z, &scratch.radius, &scratch.margin}) column->resize(padded);
   scratch.flags.resize(padded);
+  scratch.cached.resize(n);
+  const ContactSet& previous = world.contacts;
+  std::span<const std::uint32_t> new_to_old = grid.new_to_old;
   const std::int64_t count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < count; ++i) {
@@ -323,6 +333,14 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     scratch.radius[i] = r[i];
     scratch.margin[i] = m;
     scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : 0u);
+    std::uint32_t summary = 0;
+    if (static_cast<std::size_t>(i) < new_to_old.size()) {
+      const std::uint32_t old_row = new_to_old[i];
+      if (old_row + 1 < previous.warm_begin.size())
+        for (std::uint32_t k = previous.warm_begin[old_row]; k < previous.warm_begin[old_row + 1]; ++k)
+          summary |= partner_bit(previous.warm[k].partner);
+    }
+    scratch.cached[i] = summary;
   }
 
   const std::size_t mc = world.materials.size();
