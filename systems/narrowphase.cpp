@@ -347,6 +347,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   std::vector<Material> pair_material(mc * mc);
   for (std::size_t a = 0; a < mc; ++a)
     for (std::size_t b = 0; b < mc; ++b) pair_material[a * mc + b] = combine(world.materials[a], world.materials[b]);
+  // Planes and joint colliders are made of the pit's material.
   std::vector<Material> pit_material(mc);
   for (std::size_t a = 0; a < mc; ++a) pit_material[a] = combine(world.materials[a], world.pit.material);
 
@@ -366,8 +367,16 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     box_lo = box_lo.cwiseMin(ca[c].cwiseMin(cb[c]) - Vec3::Constant(grow));
     box_hi = box_hi.cwiseMax(ca[c].cwiseMax(cb[c]) + Vec3::Constant(grow));
   }
-  const Material collider_material = world.pit.material;
 
+  // The pit's planes, looked up once rather than per row and plane.
+  const Pit& pit = world.pit;
+  const int planes = pit.plane_count();
+  Vec3 plane_normal[Pit::kMaxPlanes];
+  float plane_offset[Pit::kMaxPlanes];
+  for (int p = 0; p < planes; ++p) {
+    plane_normal[p] = pit.plane_normal(p);
+    plane_offset[p] = pit.plane_offset(p);
+  }
 
   ContactSet& contacts = world.contacts;
   const int slabs = grid.nx;
@@ -385,8 +394,6 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     contacts,
                     grid.new_to_old};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
-  const Pit& pit = world.pit;
-  const int planes = pit.plane_count();
 
 #pragma omp parallel for schedule(dynamic, 1)
   for (int s = 0; s < slabs; ++s) {
@@ -401,28 +408,30 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       search.grid_pairs(s, out);
     }
     for (std::uint32_t i = begin; i < end; ++i) {
-      const float m = scratch.margin[i];
+      // Copies: the lists' stores would otherwise force a reload per plane.
+      const Vec3 xi = x[i];
+      const float ri = r[i], m = scratch.margin[i];
+      const Material& mat = pit_material[search.material[i]];
       // Sleepers get their planes and colliders too: the wake system may wake them before
       // the solver runs, and a woken ball must still have its floor.
       for (int p = 0; p < planes; ++p) {
-        if (!pit.plane_applies(p, x[i])) continue;
-        float gap = pit.plane_normal(p).dot(x[i]) - pit.plane_offset(p) - r[i];
+        if (!pit.plane_applies(p, xi)) continue;
+        float gap = plane_normal[p].dot(xi) - plane_offset[p] - ri;
         if (gap < m) {
           std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
-          out.statics.push_back(search.make(i, id, pit_material[search.material[i]], search.warm(i, id)));
+          out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
         }
       }
       if (colliders.size() == 0) continue;
       // The sphere's own radius counts too: a centre just outside the box may still touch.
-      const float grow = m + r[i];
-      if ((x[i].array() < box_lo.array() - grow).any() || (x[i].array() > box_hi.array() + grow).any()) continue;
+      const float grow = m + ri;
+      if ((xi.array() < box_lo.array() - grow).any() || (xi.array() > box_hi.array() + grow).any()) continue;
       for (std::size_t c = 0; c < colliders.size(); ++c) {
-        float t = closest_segment_parameter(ca[c], cb[c], x[i]);
+        float t = closest_segment_parameter(ca[c], cb[c], xi);
         Vec3 q = ca[c] + t * (cb[c] - ca[c]);
-        float reach = r[i] + cr[c] + m + collider_margin[c];
-        if ((x[i] - q).squaredNorm() >= reach * reach) continue;
+        float reach = ri + cr[c] + m + collider_margin[c];
+        if ((xi - q).squaredNorm() >= reach * reach) continue;
         std::uint32_t id = kColliderTag | static_cast<std::uint32_t>(c);
-        Material mat = combine(world.materials[search.material[i]], collider_material);
         out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
       }
     }
