@@ -7,6 +7,7 @@
 #include "systems/narrowphase.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "engine/packed3.h"  // BALLPIT_PACKED3_SSE: whether the SSE paths are built
@@ -50,6 +51,47 @@ constexpr std::uint32_t kPassedLanes[16][kLanes] = {
     {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0}, {1, 2, 0, 0}, {0, 1, 2, 0},
     {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0}, {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
 constexpr std::uint32_t kPassedCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+// The pit's planes, looked up once per step and laid out as lanes (plane p in lane p of two
+// groups of kLanes), so that a row tests four planes per instruction. near() is the test
+// n.dot(x) - offset - r < margin, in Eigen's order (n0 x0 + (n1 x1 + n2 x2)), lane by lane.
+struct PitPlanes {
+  static constexpr int kGroups = 2;
+  static_assert(Pit::kMaxPlanes <= kGroups * kLanes);
+  alignas(16) float nx[kGroups * kLanes], ny[kGroups * kLanes], nz[kGroups * kLanes], offset[kGroups * kLanes];
+  unsigned planes;  // mask of the pit's planes
+
+  explicit PitPlanes(const Pit& pit) : nx(), ny(), nz(), offset(), planes((1u << pit.plane_count()) - 1u) {
+    for (int p = 0; p < pit.plane_count(); ++p) {
+      const Vec3 n = pit.plane_normal(p);
+      nx[p] = n.x();
+      ny[p] = n.y();
+      nz[p] = n.z();
+      offset[p] = pit.plane_offset(p);
+    }
+  }
+
+  // Bit p set: the row's gap to plane p is below its margin (whether the plane applies there
+  // is the caller's question).
+  unsigned near(const Vec3& x, float r, float m) const {
+    unsigned bits = 0;
+#if BALLPIT_PACKED3_SSE
+    const __m128 px = _mm_set1_ps(x.x()), py = _mm_set1_ps(x.y()), pz = _mm_set1_ps(x.z());
+    const __m128 pr = _mm_set1_ps(r), pm = _mm_set1_ps(m);
+    for (int g = 0; g < kGroups; ++g) {
+      const int l = g * static_cast<int>(kLanes);
+      const __m128 dot = _mm_add_ps(_mm_mul_ps(_mm_load_ps(nx + l), px),
+                                    _mm_add_ps(_mm_mul_ps(_mm_load_ps(ny + l), py), _mm_mul_ps(_mm_load_ps(nz + l), pz)));
+      const __m128 gap = _mm_sub_ps(_mm_sub_ps(dot, _mm_load_ps(offset + l)), pr);
+      bits |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(gap, pm))) << l;
+    }
+#else
+    for (int p = 0; p < kGroups * static_cast<int>(kLanes); ++p)
+      bits |= unsigned(Vec3(nx[p], ny[p], nz[p]).dot(x) - offset[p] - r < m) << p;
+#endif
+    return bits & planes;
+  }
+};
 
 struct SlabSearch {
   const SpatialGrid& grid;
@@ -368,15 +410,8 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     box_hi = box_hi.cwiseMax(ca[c].cwiseMax(cb[c]) + Vec3::Constant(grow));
   }
 
-  // The pit's planes, looked up once rather than per row and plane.
   const Pit& pit = world.pit;
-  const int planes = pit.plane_count();
-  Vec3 plane_normal[Pit::kMaxPlanes];
-  float plane_offset[Pit::kMaxPlanes];
-  for (int p = 0; p < planes; ++p) {
-    plane_normal[p] = pit.plane_normal(p);
-    plane_offset[p] = pit.plane_offset(p);
-  }
+  const PitPlanes pit_planes(pit);
 
   ContactSet& contacts = world.contacts;
   const int slabs = grid.nx;
@@ -414,13 +449,11 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       const Material& mat = pit_material[search.material[i]];
       // Sleepers get their planes and colliders too: the wake system may wake them before
       // the solver runs, and a woken ball must still have its floor.
-      for (int p = 0; p < planes; ++p) {
+      for (unsigned near = pit_planes.near(xi, ri, m); near; near &= near - 1) {
+        const int p = std::countr_zero(near);
         if (!pit.plane_applies(p, xi)) continue;
-        float gap = plane_normal[p].dot(xi) - plane_offset[p] - ri;
-        if (gap < m) {
-          std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
-          out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
-        }
+        std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
+        out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
       }
       if (colliders.size() == 0) continue;
       // The sphere's own radius counts too: a centre just outside the box may still touch.
