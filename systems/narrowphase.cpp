@@ -371,8 +371,21 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   const std::size_t padded = n + kLanes - 1;
   for (auto* column : {&scratch.x, &scratch.y, &scratch.z, &scratch.radius, &scratch.margin}) column->resize(padded);
   scratch.flags.resize(padded);
-  scratch.cached.resize(n);
+
+  // Summaries of last step's cache entries, made in the cache's own (old row) order so the
+  // entries are read straight through, then gathered into this step's rows below.
   const ContactSet& previous = world.contacts;
+  const std::int64_t old_rows = previous.warm_begin.empty() ? 0 : static_cast<std::int64_t>(previous.warm_begin.size() - 1);
+  scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t o = 0; o < old_rows; ++o) {
+    std::uint32_t summary = 0;
+    for (std::uint32_t k = previous.warm_begin[o]; k < previous.warm_begin[o + 1]; ++k)
+      summary |= partner_bit(previous.warm[k].partner);
+    scratch.cached_by_old_row[o] = summary;
+  }
+
+  scratch.cached.resize(n);
   std::span<const std::uint32_t> new_to_old = grid.new_to_old;
   const std::int64_t count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(static)
@@ -384,14 +397,8 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     scratch.radius[i] = r[i];
     scratch.margin[i] = m;
     scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : 0u);
-    std::uint32_t summary = 0;
-    if (static_cast<std::size_t>(i) < new_to_old.size()) {
-      const std::uint32_t old_row = new_to_old[i];
-      if (old_row + 1 < previous.warm_begin.size())
-        for (std::uint32_t k = previous.warm_begin[old_row]; k < previous.warm_begin[old_row + 1]; ++k)
-          summary |= partner_bit(previous.warm[k].partner);
-    }
-    scratch.cached[i] = summary;
+    const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
+    scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
   }
 
   const std::size_t mc = world.materials.size();

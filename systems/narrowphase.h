@@ -27,8 +27,9 @@ struct NarrowphaseScratch {
   Column<float> margin;               // speculative margin (unit: m)
   Column<std::uint32_t> flags;        // margin exceeds a one-cell search; asleep
   // Summary of the row's warm-start entries: bit partner_bit(p) is set for every partner p
-  // they name, so a clear bit proves a pair absent (narrowphase.cpp).
-  Column<std::uint32_t> cached;
+  // they name, so a clear bit proves a pair absent (narrowphase.cpp). Made by last step's row
+  // (the cache's order), then gathered into this step's.
+  Column<std::uint32_t> cached_by_old_row, cached;
 };
 
 // Every awake sphere lists neighbours within this fraction of its radius, however slow: a
