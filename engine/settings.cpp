@@ -28,11 +28,6 @@ float Pit::plane_offset(int i) const {
   }
 }
 
-bool Pit::plane_applies(int i, const Vec3& position) const {
-  if (i == 0 || i == 5) return true;
-  return position.y() < wall_height;
-}
-
 bool Pit::inside(const Vec3& p, float radius) const {
   // Half a radius of slack: a sphere pressed into a wall is still in the pit.
   float limit = half_width + 0.5f * radius;

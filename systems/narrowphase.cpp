@@ -1,19 +1,112 @@
+// How the search is laid out (narrowphase.h says what it finds). Slabs run in parallel; within
+// one, cells are visited in key order, so generator rows come in row order and every list comes
+// out exactly as a row-by-row search would write it. A slow sphere tests the five row ranges of
+// its forward neighbourhood four rows at a time, on columns of floats copied once per step,
+// gathers the rows that pass, then makes their contacts. A fast sphere (rare) searches a wider
+// box one candidate at a time, as the naive reference mode does every sphere.
 #include "systems/narrowphase.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "engine/world.h"
+
+// The candidate and plane tests run four rows at a time in SSE2 where the target has it (every
+// x86-64), one at a time otherwise or with BALLPIT_NARROWPHASE_SCALAR; both give the same bits.
+#if defined(__SSE2__) && !defined(BALLPIT_NARROWPHASE_SCALAR)
+#include <immintrin.h>
+#define BALLPIT_NARROWPHASE_SSE 1
+#endif
 
 namespace ballpit {
 
 namespace {
 
+// NarrowphaseScratch::flags bits.
+constexpr std::uint32_t kFastRow = 1;    // margin beyond what a one-cell search covers
+constexpr std::uint32_t kAsleepRow = 2;
+
+// Bit of a partner in a row's summary of its warm-start entries (NarrowphaseScratch::cached):
+// Fibonacci hashing of the partner to one of 32 bits.
+inline std::uint32_t partner_bit(std::uint32_t partner) { return 1u << ((partner * 0x9E3779B1u) >> 27); }
+
+// Slow spheres test their candidates this many rows at a time (one SSE register of floats).
+constexpr std::uint32_t kLanes = 4;
+
+// How far ahead of the list's end the slots of new contacts are prefetched (8 x 56 bytes: seven
+// cache lines, about two slow spheres' contacts).
+constexpr std::size_t kPrefetchContacts = 8;
+
+// Rows [begin, end) of the sphere table.
+struct RowRange {
+  std::uint32_t begin = 0, end = 0;
+};
+
+// The scratch columns as plain pointers. Held in locals, they stay in registers through the
+// candidate loop; read through the vectors, they are reloaded after every contact stored
+// (the compiler cannot tell a vector's end pointer from theirs).
+struct Columns {
+  const float* x;
+  const float* y;
+  const float* z;
+  const float* radius;
+  const float* margin;
+  const std::uint32_t* flags;
+};
+
+// Left-packing of kLanes test results: row m lists the lanes whose bits are set in m, in order
+// (then filler), and kPassedCount[m] counts them.
+constexpr std::uint32_t kPassedLanes[16][kLanes] = {
+    {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0}, {1, 2, 0, 0}, {0, 1, 2, 0},
+    {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0}, {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
+constexpr std::uint32_t kPassedCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+// The pit's planes, looked up once per step and laid out as lanes (plane p in lane p of two
+// groups of kLanes), so that a row tests four planes per instruction. near() is the test
+// n.dot(x) - offset - r < margin, in Eigen's order (n0 x0 + (n1 x1 + n2 x2)), lane by lane.
+struct PitPlanes {
+  static constexpr int kGroups = 2;
+  static_assert(Pit::kMaxPlanes <= kGroups * kLanes);
+  alignas(16) float nx[kGroups * kLanes], ny[kGroups * kLanes], nz[kGroups * kLanes], offset[kGroups * kLanes];
+  unsigned planes;  // mask of the pit's planes
+
+  explicit PitPlanes(const Pit& pit) : nx(), ny(), nz(), offset(), planes((1u << pit.plane_count()) - 1u) {
+    for (int p = 0; p < pit.plane_count(); ++p) {
+      const Vec3 n = pit.plane_normal(p);
+      nx[p] = n.x();
+      ny[p] = n.y();
+      nz[p] = n.z();
+      offset[p] = pit.plane_offset(p);
+    }
+  }
+
+  // Bit p set: the row's gap to plane p is below its margin (whether the plane applies there
+  // is the caller's question).
+  unsigned near(const Vec3& x, float r, float m) const {
+    unsigned bits = 0;
+#if BALLPIT_NARROWPHASE_SSE
+    const __m128 px = _mm_set1_ps(x.x()), py = _mm_set1_ps(x.y()), pz = _mm_set1_ps(x.z());
+    const __m128 pr = _mm_set1_ps(r), pm = _mm_set1_ps(m);
+    for (int g = 0; g < kGroups; ++g) {
+      const int l = g * static_cast<int>(kLanes);
+      const __m128 dot = _mm_add_ps(_mm_mul_ps(_mm_load_ps(nx + l), px),
+                                    _mm_add_ps(_mm_mul_ps(_mm_load_ps(ny + l), py), _mm_mul_ps(_mm_load_ps(nz + l), pz)));
+      const __m128 gap = _mm_sub_ps(_mm_sub_ps(dot, _mm_load_ps(offset + l)), pr);
+      bits |= static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(gap, pm))) << l;
+    }
+#else
+    for (int p = 0; p < kGroups * static_cast<int>(kLanes); ++p)
+      bits |= unsigned(Vec3(nx[p], ny[p], nz[p]).dot(x) - offset[p] - r < m) << p;
+#endif
+    return bits & planes;
+  }
+};
+
 struct SlabSearch {
   const SpatialGrid& grid;
   std::span<const Vec3> x;
   std::span<const float> r;
-  std::span<const std::uint8_t> asleep;
   std::span<const std::uint16_t> material;
   std::span<const std::uint32_t> entity;
   const NarrowphaseScratch& scratch;
@@ -28,89 +121,200 @@ struct SlabSearch {
     return j >= grid.slab_row_begin(slab) && j < grid.slab_row_begin(std::min(slab + 2, grid.nx));
   }
 
-  const WarmStartEntry* warm(std::uint32_t old_row, std::uint32_t partner) const {
-    if (old_row + 1 >= previous.warm_begin.size()) return nullptr;
-    for (std::uint32_t k = previous.warm_begin[old_row]; k < previous.warm_begin[old_row + 1]; ++k)
-      if (previous.warm[k].partner == partner) return &previous.warm[k];
+  // Last step's entries of the sphere that was at `old_row`.
+  std::span<const WarmStartEntry> cached(std::uint32_t old_row) const {
+    if (old_row + 1 >= previous.warm_begin.size()) return {};
+    return {previous.warm.data() + previous.warm_begin[old_row], previous.warm.data() + previous.warm_begin[old_row + 1]};
+  }
+
+  static const WarmStartEntry* find(std::span<const WarmStartEntry> entries, std::uint32_t partner) {
+    for (const WarmStartEntry& e : entries)
+      if (e.partner == partner) return &e;
     return nullptr;
+  }
+
+  const WarmStartEntry* warm(std::uint32_t i, std::uint32_t partner) const {
+    return new_to_old.empty() ? nullptr : find(cached(new_to_old[i]), partner);
   }
 
   // `reversed`: the cached contact had a and b the other way round (row order decides which
   // sphere generates a pair, and rows are re-sorted every step), so its friction impulse, which
   // acts on a as -F and on b as +F, changes sign. The normal impulse is along a -> b either way.
-  Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w,
-               bool reversed = false) const {
-    Contact c{a, b, 0.0f, Vec3::Zero(), m.friction, m.restitution, 0.0f, false, Vec3::Zero(), 0.0f};
-    if (w) {
-      c.normal_impulse = w->normal_impulse;
-      c.friction_impulse = reversed ? Vec3(-w->friction_impulse) : w->friction_impulse;
-      c.loaded_last_step = w->normal_impulse > 0.0f;
-    }
-    return c;
+  // A pair without an entry starts from zero impulses: it reads them from kNoEntry rather than
+  // branching on whether it has one, which a third of all pairs do not, at no predictable place.
+  static Contact make(std::uint32_t a, std::uint32_t b, const Material& m, const WarmStartEntry* w,
+                      bool reversed = false) {
+    static const WarmStartEntry kNoEntry{0, 0.0f, Vec3::Zero()};
+    const WarmStartEntry& e = w ? *w : kNoEntry;
+    const Vec3 friction = reversed ? Vec3(-e.friction_impulse) : e.friction_impulse;
+    return {a, b, e.normal_impulse, friction, m.friction, m.restitution, 0.0f, e.normal_impulse > 0.0f, Vec3::Zero(), 0.0f};
+  }
+
+  // What the contacts of generator row i share, looked up once for all of them.
+  struct Generator {
+    std::uint32_t i;
+    std::uint32_t entity;
+    std::uint32_t entity_bit;              // partner_bit(entity)
+    const Material* materials;             // i's row of pair_material
+    std::span<const WarmStartEntry> warm;  // i's entries of last step
+  };
+
+  Generator generator(std::uint32_t i) const {
+    return {i, entity[i], partner_bit(entity[i]), &pair_material[material[i] * material_count],
+            new_to_old.empty() ? std::span<const WarmStartEntry>{} : cached(new_to_old[i])};
+  }
+
+  // The partner's own entries are searched only if its summary allows: most pairs that i did
+  // not cache were not cached at all (they carried no impulse), and the partner's entries lie
+  // ahead in the cache, where reading them costs a miss.
+  Contact pair(const Generator& g, std::uint32_t j) const {
+    const WarmStartEntry* w = find(g.warm, entity[j]);
+    bool reversed = false;
+    if ((scratch.cached[j] & g.entity_bit) && !w) reversed = (w = find(cached(new_to_old[j]), g.entity)) != nullptr;
+    return make(g.i, j, g.materials[material[j]], w, reversed);
   }
 
   void add_pair(std::uint32_t i, std::uint32_t j, int slab, SlabContacts& out) const {
-    const Material& m = pair_material[material[i] * material_count + material[j]];
-    const WarmStartEntry* w = nullptr;
-    bool reversed = false;
-    if (!new_to_old.empty()) {
-      w = warm(new_to_old[i], entity[j]);
-      if (!w) reversed = (w = warm(new_to_old[j], entity[i])) != nullptr;
-    }
     auto& list = local(j, slab) ? out.pairs : out.serial;
-    list.push_back(make(i, j, m, w, reversed));
+    list.push_back(pair(generator(i), j));
   }
 
+  bool fast(std::uint32_t i) const { return scratch.flags[i] & kFastRow; }
+
   bool touching_soon(std::uint32_t i, std::uint32_t j) const {
-    if (asleep[i] && asleep[j]) return false;
+    if (scratch.flags[i] & scratch.flags[j] & kAsleepRow) return false;
     float reach = r[i] + r[j] + scratch.margin[i] + scratch.margin[j];
     return (x[j] - x[i]).squaredNorm() < reach * reach;
   }
 
   // Does the slow sphere i own the pair with j? Fast spheres record their own pairs.
-  bool slow_owns(std::uint32_t i, std::uint32_t j) const { return j > i && !scratch.fast[j]; }
+  bool slow_owns(std::uint32_t i, std::uint32_t j) const { return j > i && !fast(j); }
 
   // A fast sphere owns pairs with slow spheres, and with fast ones of smaller margin (ties by
   // row), so exactly one side records each pair.
   bool fast_owns(std::uint32_t i, std::uint32_t j) const {
     if (i == j) return false;
-    if (!scratch.fast[j]) return true;
+    if (!fast(j)) return true;
     float mi = scratch.margin[i], mj = scratch.margin[j];
     return mj < mi || (mj == mi && j > i);
   }
 
-  void scan_rows(std::uint32_t i, std::uint32_t begin, std::uint32_t end, bool fast, int slab, SlabContacts& out) const {
-    for (std::uint32_t j = begin; j < end; ++j) {
-      if (!(fast ? fast_owns(i, j) : slow_owns(i, j))) continue;
+  // One candidate at a time: the reference mode, and fast spheres (few, and their partners may
+  // lie in any slab).
+  void scan_rows(std::uint32_t i, RowRange rows, int slab, SlabContacts& out) const {
+    const bool fast_i = fast(i);
+    for (std::uint32_t j = rows.begin; j < rows.end; ++j) {
+      if (!(fast_i ? fast_owns(i, j) : slow_owns(i, j))) continue;
       if (touching_soon(i, j)) add_pair(i, j, slab, out);
     }
   }
 
-  // Cells (cx, y0..y1, cz), y clipped to the grid: consecutive keys, so one row range, visited
-  // in the order the cells one by one would visit them.
-  void scan_column(std::uint32_t i, int cx, int y0, int y1, int cz, bool fast, int slab, SlabContacts& out) const {
-    if (cx >= grid.nx || cz < 0 || cz >= grid.nz) return;
-    y0 = std::max(y0, 0);
-    y1 = std::min(y1, grid.ny - 1);
-    if (y0 > y1) return;
-    scan_rows(i, grid.cell_start[grid.key(cx, y0, cz)], grid.cell_start[grid.key(cx, y1, cz) + 1], fast, slab,
-              out);
+  // Sphere i's side of the candidate test, in every lane.
+#if BALLPIT_NARROWPHASE_SSE
+  struct Probe {
+    __m128 x, y, z, r, m;
+    __m128i skip;  // flags that rule a partner out: fast always, asleep if i sleeps too
+  };
+  static Probe probe(const Columns& c, std::uint32_t i) {
+    const std::uint32_t skip = kFastRow | (c.flags[i] & kAsleepRow);
+    return {_mm_set1_ps(c.x[i]),      _mm_set1_ps(c.y[i]),      _mm_set1_ps(c.z[i]),
+            _mm_set1_ps(c.radius[i]), _mm_set1_ps(c.margin[i]), _mm_set1_epi32(static_cast<int>(skip))};
   }
 
-  void grid_pairs(std::uint32_t i, int slab, SlabContacts& out) const {
-    std::uint32_t k = grid.cell_of_row[i];
-    int cy = static_cast<int>(k % grid.ny);
-    int cz = static_cast<int>((k / grid.ny) % grid.nz);
-    int cx = slab;
-    if (!scratch.fast[i]) {
-      // Forward half of the 27-cell neighbourhood: cells with a larger key, plus the own cell
-      // (partners of larger row only). Keys grow with y, then z, then x, so rows do too, and
-      // the cells of one (x, z) column that differ in y are one range of rows.
-      scan_column(i, cx, cy, cy + 1, cz, false, slab, out);
-      scan_column(i, cx, cy - 1, cy + 1, cz + 1, false, slab, out);
-      for (int dz = -1; dz <= 1; ++dz) scan_column(i, cx + 1, cy - 1, cy + 1, cz + dz, false, slab, out);
-      return;
+  // Bit k set: the slow sphere owns a pair with row j + k that touches soon. The arithmetic is
+  // touching_soon's, lane by lane and in its order (Eigen sums a squared norm of three as
+  // x + (y + z); no FMA), so the same pairs pass to the last bit.
+  static unsigned slow_hits(const Columns& c, const Probe& p, std::uint32_t j) {
+    const __m128 dx = _mm_sub_ps(_mm_loadu_ps(c.x + j), p.x);
+    const __m128 dy = _mm_sub_ps(_mm_loadu_ps(c.y + j), p.y);
+    const __m128 dz = _mm_sub_ps(_mm_loadu_ps(c.z + j), p.z);
+    const __m128 d2 = _mm_add_ps(_mm_mul_ps(dx, dx), _mm_add_ps(_mm_mul_ps(dy, dy), _mm_mul_ps(dz, dz)));
+    const __m128 reach =
+        _mm_add_ps(_mm_add_ps(_mm_add_ps(p.r, _mm_loadu_ps(c.radius + j)), p.m), _mm_loadu_ps(c.margin + j));
+    const __m128 near = _mm_cmplt_ps(d2, _mm_mul_ps(reach, reach));
+    const __m128i skipped = _mm_and_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(c.flags + j)), p.skip);
+    const __m128 owned = _mm_castsi128_ps(_mm_cmpeq_epi32(skipped, _mm_setzero_si128()));
+    return static_cast<unsigned>(_mm_movemask_ps(_mm_and_ps(near, owned)));
+  }
+#else
+  struct Probe {
+    std::uint32_t i;
+  };
+  static Probe probe(const Columns&, std::uint32_t i) { return {i}; }
+  unsigned slow_hits(const Columns&, const Probe& p, std::uint32_t j) const {
+    unsigned hits = 0;
+    for (std::uint32_t k = 0; k < kLanes && j + k < x.size(); ++k)
+      hits |= unsigned(!fast(j + k) && touching_soon(p.i, j + k)) << k;
+    return hits;
+  }
+#endif
+
+  // Writes the rows of `rows` that pass to `hits`, in order, and returns the end of what it
+  // wrote. About one candidate in seven passes, at no predictable place, so nothing here
+  // branches on the test: every lane is written, and the end moves past the passing ones only.
+  // A row's slot is thus written no later than its own turn. Lanes past the range's end read
+  // the scratch padding and are masked off.
+  std::uint32_t* gather(const Columns& c, const Probe& p, RowRange rows, std::uint32_t* hits) const {
+    for (std::uint32_t j = rows.begin; j < rows.end; j += kLanes) {
+      const std::uint32_t lanes = std::min(rows.end - j, kLanes);
+      const unsigned passed = slow_hits(c, p, j) & (0xFu >> (kLanes - lanes));
+      for (std::uint32_t k = 0; k < kLanes; ++k) hits[k] = j + kPassedLanes[passed][k];
+      hits += kPassedCount[passed];
     }
+    return hits;
+  }
+
+  // The contacts of the rows [passed, end) that passed the slow sphere's test. Its partners lie
+  // in its slab or the next, so all are local. The list keeps its capacity from step to step,
+  // so the slots about to be written are last step's memory, long gone from the near caches:
+  // they are asked for a few contacts ahead (a prefetch past the capacity is harmless).
+  void emit(const Generator& g, const std::uint32_t* passed, const std::uint32_t* end, SlabContacts& out) const {
+    for (; passed < end; ++passed) {
+      __builtin_prefetch(out.pairs.data() + out.pairs.size() + kPrefetchContacts, 1);
+      out.pairs.push_back(pair(g, *passed));
+    }
+  }
+
+  // Cells (cx, y0..y1, cz), y clipped to the grid: consecutive keys, so one row range, in the
+  // order the cells one by one would give them. Empty outside the grid.
+  RowRange column(int cx, int y0, int y1, int cz) const {
+    if (cx >= grid.nx || cz < 0 || cz >= grid.nz) return {};
+    y0 = std::max(y0, 0);
+    y1 = std::min(y1, grid.ny - 1);
+    if (y0 > y1) return {};
+    return {grid.cell_start[grid.key(cx, y0, cz)], grid.cell_start[grid.key(cx, y1, cz) + 1]};
+  }
+
+  // The spheres of cell (cx, cy, cz) against the forward half of its 27-cell neighbourhood:
+  // cells with a larger key, plus the own cell (partners of larger row only). Keys grow with y,
+  // then z, then x, so rows do too, and the cells of one (x, z) column that differ in y are one
+  // range of rows: five ranges, in row order, the same for every slow sphere of the cell. The
+  // rows that pass are gathered in `passed` (room for every candidate of the cell, plus a
+  // kLanes - 1 write past the last), and their contacts made after the whole search, in one
+  // loop: both loops then run without branches on the test.
+  void cell_pairs(const Columns& c, int cx, int cy, int cz, RowRange cell, int slab, std::vector<std::uint32_t>& passed,
+                  SlabContacts& out) const {
+    const RowRange forward[5] = {column(cx, cy, cy + 1, cz), column(cx, cy - 1, cy + 1, cz + 1),
+                                 column(cx + 1, cy - 1, cy + 1, cz - 1), column(cx + 1, cy - 1, cy + 1, cz),
+                                 column(cx + 1, cy - 1, cy + 1, cz + 1)};
+    std::size_t candidates = forward[0].end - cell.begin;
+    for (int k = 1; k < 5; ++k) candidates += forward[k].end - forward[k].begin;
+    if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
+    for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
+      if (fast(i)) {
+        wide_pairs(i, cx, cy, cz, slab, out);
+        continue;
+      }
+      const Probe p = probe(c, i);
+      // The own cell's rows up to i belong to pairs that earlier rows own.
+      std::uint32_t* end = gather(c, p, {i + 1, forward[0].end}, passed.data());
+      for (int k = 1; k < 5; ++k) end = gather(c, p, forward[k], end);
+      emit(generator(i), passed.data(), end, out);
+    }
+  }
+
+  // A fast sphere searches every cell its reach may touch, all around.
+  void wide_pairs(std::uint32_t i, int cx, int cy, int cz, int slab, SlabContacts& out) const {
     float reach = r[i] + grid.max_radius + 2.0f * scratch.margin[i];
     // A margin can be huge or infinite (a state of 1e19 m/s, a step of 1e30 s): clamp in float,
     // before converting, since no search needs more cells than the grid has along an axis.
@@ -122,15 +326,24 @@ struct SlabSearch {
     int z0 = std::max(cz - span, 0), z1 = std::min(cz + span, grid.nz - 1);
     int y0 = std::max(cy - span, 0), y1 = std::min(cy + span, grid.ny - 1);
     for (int ax = x0; ax <= x1; ++ax)
-      for (int az = z0; az <= z1; ++az) scan_column(i, ax, y0, y1, az, true, slab, out);
+      for (int az = z0; az <= z1; ++az) scan_rows(i, column(ax, y0, y1, az), slab, out);
+  }
+
+  // Cell by cell in key order, so rows in row order.
+  void grid_pairs(int slab, SlabContacts& out) const {
+    const Columns c{scratch.x.data(),      scratch.y.data(),      scratch.z.data(),
+                    scratch.radius.data(), scratch.margin.data(), scratch.flags.data()};
+    std::vector<std::uint32_t> passed;
+    for (int cz = 0; cz < grid.nz; ++cz)
+      for (int cy = 0; cy < grid.ny; ++cy) {
+        const std::uint32_t k = grid.key(slab, cy, cz);
+        const RowRange cell{grid.cell_start[k], grid.cell_start[k + 1]};
+        if (cell.begin < cell.end) cell_pairs(c, slab, cy, cz, cell, slab, passed, out);
+      }
   }
 
   void naive_pairs(std::uint32_t i, int slab, SlabContacts& out) const {
-    const std::uint32_t n = static_cast<std::uint32_t>(x.size());
-    for (std::uint32_t j = 0; j < n; ++j) {
-      bool owns = scratch.fast[i] ? fast_owns(i, j) : slow_owns(i, j);
-      if (owns && touching_soon(i, j)) add_pair(i, j, slab, out);
-    }
+    scan_rows(i, {0, static_cast<std::uint32_t>(x.size())}, slab, out);
   }
 };
 
@@ -160,20 +373,45 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   auto r = spheres.radius();
   auto asleep = spheres.asleep();
 
-  scratch.margin.resize(n);
-  scratch.fast.resize(n);
+  // The padding rows keep the last load of kLanes in bounds; their lanes are masked off.
+  const std::size_t padded = n + kLanes - 1;
+  for (auto* column : {&scratch.x, &scratch.y, &scratch.z, &scratch.radius, &scratch.margin}) column->resize(padded);
+  scratch.flags.resize(padded);
+
+  // Summaries of last step's cache entries, made in the cache's own (old row) order so the
+  // entries are read straight through, then gathered into this step's rows below.
+  const ContactSet& previous = world.contacts;
+  const std::int64_t old_rows = previous.warm_begin.empty() ? 0 : static_cast<std::int64_t>(previous.warm_begin.size() - 1);
+  scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t o = 0; o < old_rows; ++o) {
+    std::uint32_t summary = 0;
+    for (std::uint32_t k = previous.warm_begin[o]; k < previous.warm_begin[o + 1]; ++k)
+      summary |= partner_bit(previous.warm[k].partner);
+    scratch.cached_by_old_row[o] = summary;
+  }
+
+  scratch.cached.resize(n);
+  std::span<const std::uint32_t> new_to_old = grid.new_to_old;
   const std::int64_t count = static_cast<std::int64_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < count; ++i) {
     float m = asleep[i] ? kMinMarginFraction * r[i] : speculative_margin(v[i].norm(), dt, g, r[i]);
+    scratch.x[i] = x[i].x();
+    scratch.y[i] = x[i].y();
+    scratch.z[i] = x[i].z();
+    scratch.radius[i] = r[i];
     scratch.margin[i] = m;
-    scratch.fast[i] = m > grid.slow_margin;
+    scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : 0u);
+    const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
+    scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
   }
 
   const std::size_t mc = world.materials.size();
   std::vector<Material> pair_material(mc * mc);
   for (std::size_t a = 0; a < mc; ++a)
     for (std::size_t b = 0; b < mc; ++b) pair_material[a * mc + b] = combine(world.materials[a], world.materials[b]);
+  // Planes and joint colliders are made of the pit's material.
   std::vector<Material> pit_material(mc);
   for (std::size_t a = 0; a < mc; ++a) pit_material[a] = combine(world.materials[a], world.pit.material);
 
@@ -193,7 +431,9 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     box_lo = box_lo.cwiseMin(ca[c].cwiseMin(cb[c]) - Vec3::Constant(grow));
     box_hi = box_hi.cwiseMax(ca[c].cwiseMax(cb[c]) + Vec3::Constant(grow));
   }
-  const Material collider_material = world.pit.material;
+
+  const Pit& pit = world.pit;
+  const PitPlanes pit_planes(pit);
 
   ContactSet& contacts = world.contacts;
   const int slabs = grid.nx;
@@ -203,7 +443,6 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   SlabSearch search{grid,
                     x,
                     r,
-                    asleep,
                     spheres.material(),
                     spheres.entity_index(),
                     scratch,
@@ -212,8 +451,6 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     contacts,
                     grid.new_to_old};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
-  const Pit& pit = world.pit;
-  const int planes = pit.plane_count();
 
 #pragma omp parallel for schedule(dynamic, 1)
   for (int s = 0; s < slabs; ++s) {
@@ -222,34 +459,35 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     out.statics.clear();
     out.serial.clear();
     const std::uint32_t begin = grid.slab_row_begin(s), end = grid.slab_row_begin(s + 1);
+    if (naive) {
+      for (std::uint32_t i = begin; i < end; ++i) search.naive_pairs(i, s, out);
+    } else {
+      search.grid_pairs(s, out);
+    }
     for (std::uint32_t i = begin; i < end; ++i) {
-      if (naive) search.naive_pairs(i, s, out);
-      else search.grid_pairs(i, s, out);
-      const float m = scratch.margin[i];
+      // Copies: the lists' stores would otherwise force a reload per plane.
+      const Vec3 xi = x[i];
+      const float ri = r[i], m = scratch.margin[i];
+      const Material& mat = pit_material[search.material[i]];
       // Sleepers get their planes and colliders too: the wake system may wake them before
       // the solver runs, and a woken ball must still have its floor.
-      for (int p = 0; p < planes; ++p) {
-        if (!pit.plane_applies(p, x[i])) continue;
-        float gap = pit.plane_normal(p).dot(x[i]) - pit.plane_offset(p) - r[i];
-        if (gap < m) {
-          std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
-          const WarmStartEntry* w = search.new_to_old.empty() ? nullptr : search.warm(search.new_to_old[i], id);
-          out.statics.push_back(search.make(i, id, pit_material[search.material[i]], w));
-        }
+      for (unsigned near = pit_planes.near(xi, ri, m); near; near &= near - 1) {
+        const int p = std::countr_zero(near);
+        if (!pit.plane_applies(p, xi)) continue;
+        std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
+        out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
       }
       if (colliders.size() == 0) continue;
       // The sphere's own radius counts too: a centre just outside the box may still touch.
-      const float grow = m + r[i];
-      if ((x[i].array() < box_lo.array() - grow).any() || (x[i].array() > box_hi.array() + grow).any()) continue;
+      const float grow = m + ri;
+      if ((xi.array() < box_lo.array() - grow).any() || (xi.array() > box_hi.array() + grow).any()) continue;
       for (std::size_t c = 0; c < colliders.size(); ++c) {
-        float t = closest_segment_parameter(ca[c], cb[c], x[i]);
+        float t = closest_segment_parameter(ca[c], cb[c], xi);
         Vec3 q = ca[c] + t * (cb[c] - ca[c]);
-        float reach = r[i] + cr[c] + m + collider_margin[c];
-        if ((x[i] - q).squaredNorm() >= reach * reach) continue;
+        float reach = ri + cr[c] + m + collider_margin[c];
+        if ((xi - q).squaredNorm() >= reach * reach) continue;
         std::uint32_t id = kColliderTag | static_cast<std::uint32_t>(c);
-        const WarmStartEntry* w = search.new_to_old.empty() ? nullptr : search.warm(search.new_to_old[i], id);
-        Material mat = combine(world.materials[search.material[i]], collider_material);
-        out.statics.push_back(search.make(i, id, mat, w));
+        out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
       }
     }
   }

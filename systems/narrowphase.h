@@ -11,15 +11,25 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/aligned_vector.h"
 #include "engine/system.h"
 
 namespace ballpit {
 
 class World;
 
+// Per-row values of this step, one column each (structure of arrays), so that the candidate
+// test loads consecutive rows several at a time. Columns run a few rows past the last sphere
+// so that such a load stays in bounds.
 struct NarrowphaseScratch {
-  std::vector<float> margin;        // speculative margin per row (unit: m)
-  std::vector<std::uint8_t> fast;   // margin exceeds what a one-cell search covers
+  Column<float> x, y, z;              // position (unit: m)
+  Column<float> radius;               // (unit: m)
+  Column<float> margin;               // speculative margin (unit: m)
+  Column<std::uint32_t> flags;        // margin exceeds a one-cell search; asleep
+  // Summary of the row's warm-start entries: bit partner_bit(p) is set for every partner p
+  // they name, so a clear bit proves a pair absent (narrowphase.cpp). Made by last step's row
+  // (the cache's order), then gathered into this step's.
+  Column<std::uint32_t> cached_by_old_row, cached;
 };
 
 // Every awake sphere lists neighbours within this fraction of its radius, however slow: a
