@@ -22,7 +22,7 @@ constexpr std::size_t kOpenBatches = 32;
 class Window {
  public:
   Window(BatchList& out, const PackInput& in)
-      : out_(out), last_(in.last_batch), stamp_(in.stamp), pad_rows_(in.pad_rows) {}
+      : out_(out), last_(in.last_batch), stamp_(in.stamp) {}
 
   // The lane where the contact of sphere rows a and b (b == a: a plane) goes, in its batch.
   struct Lane {
@@ -57,7 +57,6 @@ class Window {
   BatchList& out_;
   std::vector<std::uint32_t>& last_;
   const std::uint32_t stamp_;
-  const std::uint32_t pad_rows_;
   // Lanes taken in each batch, beside the batches: the search for a batch with room reads these
   // bytes, not a line of each 1 KB batch (that search was a fifth of the packing).
   std::vector<std::uint8_t> lanes_;

@@ -122,9 +122,10 @@ struct ContactKernel {
     // overlap beyond reach only if one move at this speed could have made it (a crowd's spawn is
     // no impact).
     const T h = broadcast<T>(p.h);
-    M strike = (c.restitution > zero) & (c.normal_impulse == zero) & mask_not(c.loaded_last_step) &
+    const M unloaded = mask_not(c.loaded_last_step), beyond_reach = mask_not(c.gap < c.reach);
+    M strike = (c.restitution > zero) & (c.normal_impulse == zero) & unloaded &
                (vn < broadcast<T>(-p.restitution_threshold)) & (c.gap + vn * h < zero) &
-               ((c.gap >= vn * h) | mask_not(c.gap < c.reach));
+               ((c.gap >= vn * h) | beyond_reach);
     M keep = live;
     if constexpr (pass == Pass::Relax) {
       // A gap the next move will close is the next Solve's impact; Relax leaves it alone.

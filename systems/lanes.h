@@ -29,11 +29,15 @@
 // from an undefined register and warn that it is used uninitialised where they are inlined (GCC
 // bug 105593, fixed in GCC 13). The warning is located in the header, so silencing it there
 // silences nothing in this project's code.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
+#else
+#include <immintrin.h>
+#endif
 #endif
 
 #ifndef BALLPIT_LANES_TARGET
