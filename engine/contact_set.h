@@ -30,10 +30,6 @@ struct Contact {
   float restitution;           // combined restitution
   float impact_shift;          // (1+e) x gap of an impact this substep, undone after the move (m)
   bool loaded_last_step;       // carried a normal impulse at the end of the last step: no impact
-  // Sphere pairs only: unit normal a -> b and gap (m) at the positions the solver last saw,
-  // kept so that passes over unchanged positions do not recompute them (systems/solver.cpp).
-  Vec3 normal;
-  float gap;
 };
 
 // Impulses carried from one step to the next, keyed by the generating sphere's row at the end

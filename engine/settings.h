@@ -66,7 +66,7 @@ struct SolverSettings {
   float angular_damping = 0.0f;  // (unit: 1/s)
   NarrowphaseMode narrowphase = NarrowphaseMode::Grid;
   // The solver keeps each sphere pair's contact frame (normal, gap) from one pass for the next
-  // while the spheres have not moved (systems/solver.cpp). false recomputes it in every pass: a
+  // while the spheres have not moved (systems/contact_batch.h). false recomputes it in every pass: a
   // reference mode, as the naive narrowphase is, that must give bit for bit the same state.
   bool keep_pair_frames = true;
 

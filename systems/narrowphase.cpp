@@ -34,7 +34,7 @@ inline std::uint32_t partner_bit(std::uint32_t partner) { return 1u << ((partner
 // Slow spheres test their candidates this many rows at a time (one SSE register of floats).
 constexpr std::uint32_t kLanes = 4;
 
-// How far ahead of the list's end the slots of new contacts are prefetched (8 x 56 bytes: seven
+// How far ahead of the list's end the slots of new contacts are prefetched (8 x 40 bytes: five
 // cache lines, about two slow spheres' contacts).
 constexpr std::size_t kPrefetchContacts = 8;
 
@@ -147,7 +147,7 @@ struct SlabSearch {
     static const WarmStartEntry kNoEntry{0, 0.0f, Vec3::Zero()};
     const WarmStartEntry& e = w ? *w : kNoEntry;
     const Vec3 friction = reversed ? Vec3(-e.friction_impulse) : e.friction_impulse;
-    return {a, b, e.normal_impulse, friction, m.friction, m.restitution, 0.0f, e.normal_impulse > 0.0f, Vec3::Zero(), 0.0f};
+    return {a, b, e.normal_impulse, friction, m.friction, m.restitution, 0.0f, e.normal_impulse > 0.0f};
   }
 
   // What the contacts of generator row i share, looked up once for all of them.
