@@ -172,7 +172,7 @@ void run_batches(ContactBatch* begin, ContactBatch* end, SolverBodies& bodies, c
   for (ContactBatch* batch = begin; batch != end; ++batch) {
     // The batches stream through memory in order, but the hardware's prefetch fell behind: a
     // load of the batch's columns was the slowest instruction of the pass.
-    if (batch + kPrefetchAhead < end)
+    if (end - batch > kPrefetchAhead)
       for (std::size_t line = 0; line < sizeof(ContactBatch); line += 64)
         __builtin_prefetch(reinterpret_cast<const char*>(batch + kPrefetchAhead) + line);
     for (int first = 0; first < kBatchLanes; first += kLanes) {

@@ -267,10 +267,12 @@ struct SlabSearch {
   // The contacts of the rows [passed, end) that passed the slow sphere's test. Its partners lie
   // in its slab or the next, so all are local. The list keeps its capacity from step to step,
   // so the slots about to be written are last step's memory, long gone from the near caches:
-  // they are asked for a few contacts ahead (a prefetch past the capacity is harmless).
+  // they are asked for a few contacts ahead, never past the capacity (the address would be
+  // undefined there, and null before the first step).
   void emit(const Generator& g, const std::uint32_t* passed, const std::uint32_t* end, SlabContacts& out) const {
     for (; passed < end; ++passed) {
-      __builtin_prefetch(out.pairs.data() + out.pairs.size() + kPrefetchContacts, 1);
+      const std::size_t ahead = std::min(out.pairs.size() + kPrefetchContacts, out.pairs.capacity());
+      __builtin_prefetch(out.pairs.data() + ahead, 1);
       out.pairs.push_back(pair(g, *passed));
     }
   }
