@@ -122,17 +122,17 @@ inline LaneQuads gather_quads(const LaneRecords& rec, std::size_t offset) {
           lanes(_mm512_shuffle_ps(t1, t3, 0x44)), lanes(_mm512_shuffle_ps(t1, t3, 0xEE))};
 }
 
-// Lane k writes its quad only where bit k of `lanes` is set.
-inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t lanes, const LaneQuads& q) {
+// Lane k writes its quad only where bit k of `write_mask` is set.
+inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& q) {
   const __m512 t0 = _mm512_unpacklo_ps(raw(q.x), raw(q.y)), t1 = _mm512_unpackhi_ps(raw(q.x), raw(q.y));
   const __m512 t2 = _mm512_unpacklo_ps(raw(q.z), raw(q.w)), t3 = _mm512_unpackhi_ps(raw(q.z), raw(q.w));
   const __m512 r[4] = {_mm512_shuffle_ps(t0, t2, 0x44), _mm512_shuffle_ps(t0, t2, 0xEE),
                        _mm512_shuffle_ps(t1, t3, 0x44), _mm512_shuffle_ps(t1, t3, 0xEE)};
   for (int k = 0; k < 4; ++k) {
-    if (lanes >> k & 1u) _mm_store_ps(quad_at(rec, k, offset), _mm512_castps512_ps128(r[k]));
-    if (lanes >> (k + 4) & 1u) _mm_store_ps(quad_at(rec, k + 4, offset), _mm512_extractf32x4_ps(r[k], 1));
-    if (lanes >> (k + 8) & 1u) _mm_store_ps(quad_at(rec, k + 8, offset), _mm512_extractf32x4_ps(r[k], 2));
-    if (lanes >> (k + 12) & 1u) _mm_store_ps(quad_at(rec, k + 12, offset), _mm512_extractf32x4_ps(r[k], 3));
+    if (write_mask >> k & 1u) _mm_store_ps(quad_at(rec, k, offset), _mm512_castps512_ps128(r[k]));
+    if (write_mask >> (k + 4) & 1u) _mm_store_ps(quad_at(rec, k + 4, offset), _mm512_extractf32x4_ps(r[k], 1));
+    if (write_mask >> (k + 8) & 1u) _mm_store_ps(quad_at(rec, k + 8, offset), _mm512_extractf32x4_ps(r[k], 2));
+    if (write_mask >> (k + 12) & 1u) _mm_store_ps(quad_at(rec, k + 12, offset), _mm512_extractf32x4_ps(r[k], 3));
   }
 }
 
@@ -164,14 +164,14 @@ inline LaneQuads gather_quads(const LaneRecords& rec, std::size_t offset) {
           lanes(_mm256_shuffle_ps(t1, t3, 0x44)), lanes(_mm256_shuffle_ps(t1, t3, 0xEE))};
 }
 
-inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t lanes, const LaneQuads& q) {
+inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& q) {
   const __m256 t0 = _mm256_unpacklo_ps(raw(q.x), raw(q.y)), t1 = _mm256_unpackhi_ps(raw(q.x), raw(q.y));
   const __m256 t2 = _mm256_unpacklo_ps(raw(q.z), raw(q.w)), t3 = _mm256_unpackhi_ps(raw(q.z), raw(q.w));
   const __m256 r[4] = {_mm256_shuffle_ps(t0, t2, 0x44), _mm256_shuffle_ps(t0, t2, 0xEE),
                        _mm256_shuffle_ps(t1, t3, 0x44), _mm256_shuffle_ps(t1, t3, 0xEE)};
   for (int k = 0; k < 4; ++k) {
-    if (lanes >> k & 1u) _mm_store_ps(quad_at(rec, k, offset), _mm256_castps256_ps128(r[k]));
-    if (lanes >> (k + 4) & 1u) _mm_store_ps(quad_at(rec, k + 4, offset), _mm256_extractf128_ps(r[k], 1));
+    if (write_mask >> k & 1u) _mm_store_ps(quad_at(rec, k, offset), _mm256_castps256_ps128(r[k]));
+    if (write_mask >> (k + 4) & 1u) _mm_store_ps(quad_at(rec, k + 4, offset), _mm256_extractf128_ps(r[k], 1));
   }
 }
 
@@ -204,9 +204,9 @@ inline LaneQuads gather_quads(const LaneRecords& rec, std::size_t offset) {
   return q;
 }
 
-inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t lanes, const LaneQuads& q) {
+inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& q) {
   for (int k = 0; k < kLanes; ++k) {
-    if (!(lanes >> k & 1u)) continue;
+    if (!(write_mask >> k & 1u)) continue;
     float* b = quad_at(rec, k, offset);
     b[0] = q.x[k];
     b[1] = q.y[k];
