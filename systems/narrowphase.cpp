@@ -10,6 +10,7 @@
 #include <bit>
 #include <cmath>
 
+#include "engine/thread_share.h"
 #include "engine/world.h"
 
 // The candidate and plane tests run four rows at a time in SSE2 where the target has it (every
@@ -454,42 +455,47 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     grid.new_to_old};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
 
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int s = 0; s < slabs; ++s) {
-    SlabContacts& out = contacts.slabs[s];
-    out.pairs.clear();
-    out.statics.clear();
-    out.serial.clear();
-    const std::uint32_t begin = grid.slab_row_begin(s), end = grid.slab_row_begin(s + 1);
-    if (naive) {
-      for (std::uint32_t i = begin; i < end; ++i) search.naive_pairs(i, s, out);
-    } else {
-      search.grid_pairs(s, out);
-    }
-    for (std::uint32_t i = begin; i < end; ++i) {
-      // Copies: the lists' stores would otherwise force a reload per plane.
-      const Vec3 xi = x[i];
-      const float ri = r[i], m = scratch.margin[i];
-      const Material& mat = pit_material[search.material[i]];
-      // Sleepers get their planes and colliders too: the wake system may wake them before
-      // the solver runs, and a woken ball must still have its floor.
-      for (unsigned near = pit_planes.near(xi, ri, m); near; near &= near - 1) {
-        const int p = std::countr_zero(near);
-        if (!pit.plane_applies(p, xi)) continue;
-        std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
-        out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
+  // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each
+  // thread writes the lists of the stretch of the pit whose contacts it will pack and solve.
+#pragma omp parallel
+  {
+    const auto [first, last] = thread_share(slabs, [&](int s) { return std::size_t{grid.slab_row_begin(s)}; });
+    for (int s = first; s < last; ++s) {
+      SlabContacts& out = contacts.slabs[s];
+      out.pairs.clear();
+      out.statics.clear();
+      out.serial.clear();
+      const std::uint32_t begin = grid.slab_row_begin(s), end = grid.slab_row_begin(s + 1);
+      if (naive) {
+        for (std::uint32_t i = begin; i < end; ++i) search.naive_pairs(i, s, out);
+      } else {
+        search.grid_pairs(s, out);
       }
-      if (colliders.size() == 0) continue;
-      // The sphere's own radius counts too: a centre just outside the box may still touch.
-      const float grow = m + ri;
-      if ((xi.array() < box_lo.array() - grow).any() || (xi.array() > box_hi.array() + grow).any()) continue;
-      for (std::size_t c = 0; c < colliders.size(); ++c) {
-        float t = closest_segment_parameter(ca[c], cb[c], xi);
-        Vec3 q = ca[c] + t * (cb[c] - ca[c]);
-        float reach = ri + cr[c] + m + collider_margin[c];
-        if ((xi - q).squaredNorm() >= reach * reach) continue;
-        std::uint32_t id = kColliderTag | static_cast<std::uint32_t>(c);
-        out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
+      for (std::uint32_t i = begin; i < end; ++i) {
+        // Copies: the lists' stores would otherwise force a reload per plane.
+        const Vec3 xi = x[i];
+        const float ri = r[i], m = scratch.margin[i];
+        const Material& mat = pit_material[search.material[i]];
+        // Sleepers get their planes and colliders too: the wake system may wake them before
+        // the solver runs, and a woken ball must still have its floor.
+        for (unsigned near = pit_planes.near(xi, ri, m); near; near &= near - 1) {
+          const int p = std::countr_zero(near);
+          if (!pit.plane_applies(p, xi)) continue;
+          std::uint32_t id = kPlaneTag | static_cast<std::uint32_t>(p);
+          out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
+        }
+        if (colliders.size() == 0) continue;
+        // The sphere's own radius counts too: a centre just outside the box may still touch.
+        const float grow = m + ri;
+        if ((xi.array() < box_lo.array() - grow).any() || (xi.array() > box_hi.array() + grow).any()) continue;
+        for (std::size_t c = 0; c < colliders.size(); ++c) {
+          float t = closest_segment_parameter(ca[c], cb[c], xi);
+          Vec3 q = ca[c] + t * (cb[c] - ca[c]);
+          float reach = ri + cr[c] + m + collider_margin[c];
+          if ((xi - q).squaredNorm() >= reach * reach) continue;
+          std::uint32_t id = kColliderTag | static_cast<std::uint32_t>(c);
+          out.statics.push_back(search.make(i, id, mat, search.warm(i, id)));
+        }
       }
     }
   }

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
+#include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/batch_kernels.h"
 #include "systems/contact_batches.h"
@@ -30,6 +32,14 @@ constexpr int kMaxSlabsPerGroup = 8;
 // of each in turn; a few rounds settle such a wedge (one does not: the second push can undo the
 // first).
 constexpr int kColliderGuardPasses = 4;
+
+// The calling thread's groups of one parity: contiguous runs of about the same number of
+// contacts, so each thread keeps its stretch of the pit, and its bodies and batches in its own
+// cache, from pass to pass (engine/thread_share.h).
+std::pair<int, int> group_share(const std::vector<std::size_t>& contacts_before) {
+  return thread_share(static_cast<int>(contacts_before.size()) - 1,
+                      [&](int k) { return contacts_before[static_cast<std::size_t>(k)]; });
+}
 
 V3<float> xyz(const Quad& q) { return {q.x, q.y, q.z}; }
 Quad quad(const V3<float>& v, float w) { return {v.x, v.y, v.z, w}; }
@@ -185,13 +195,16 @@ struct Step {
   template <ContactPass pass>
   void sweep() {
     bool any_shift = false;
-    for (std::vector<SlabGroup>& groups : scratch.groups) {
-      const int count = static_cast<int>(groups.size());
-#pragma omp parallel for schedule(dynamic, 1) reduction(|| : any_shift)
-      for (int g = 0; g < count; ++g) {
-        BatchPassResult result;
-        sweep_group<pass>(groups[g], result);
-        any_shift = any_shift || result.shifted;
+    for (int parity = 0; parity < 2; ++parity) {
+      std::vector<SlabGroup>& groups = scratch.groups[parity];
+#pragma omp parallel reduction(|| : any_shift)
+      {
+        const auto [first, last] = group_share(scratch.batches_before[parity]);
+        for (int g = first; g < last; ++g) {
+          BatchPassResult result;
+          sweep_group<pass>(groups[g], result);
+          any_shift = any_shift || result.shifted;
+        }
       }
     }
     BatchPassResult result;
@@ -213,15 +226,15 @@ void mark_piled_rows(std::vector<SlabContacts>& slabs, std::vector<std::uint8_t>
   };
   const int count = static_cast<int>(slabs.size());
   for (int parity = 0; parity < 2; ++parity) {
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(static)
     for (int s = parity; s < count; s += 2) mark(slabs[s].pairs);
   }
   for (const SlabContacts& s : slabs) mark(s.serial);
 }
 
 // Slabs grouped by parity, a few to a group: enough slabs to fill the batches' lanes (one slab
-// of a settled 100k pile fills 59% of them, four 90%, eight 97%) and enough groups to keep every
-// thread busy. The grouping does not change the result.
+// of a settled 100k pile fills 59% of them, four 90%, eight 97%) and enough groups, four a
+// thread, for group_share to even out the threads' work. The grouping does not change the result.
 void group_slabs(World& world, SolverScratch& scratch) {
   std::vector<SlabContacts>& slabs = world.contacts.slabs;
   const int count = static_cast<int>(slabs.size());
@@ -245,6 +258,13 @@ void group_slabs(World& world, SolverScratch& scratch) {
       }
     }
     groups.resize(used);
+    std::vector<std::size_t>& before = scratch.contacts_before[parity];
+    before.assign(used + 1, 0);
+    for (std::size_t g = 0; g < used; ++g) {
+      std::size_t contacts = 0;
+      for (int k : groups[g].slabs) contacts += slabs[k].pairs.size() + slabs[k].statics.size();
+      before[g + 1] = before[g] + contacts;
+    }
   }
 }
 
@@ -255,18 +275,26 @@ void pack_all(World& world, SolverScratch& scratch) {
   scratch.last_batch.assign(scratch.bodies.rows + SolverBodies::kPadRows, 0);
   PackInput in{world.spheres.radius(), scratch.in_pile, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
                scratch.last_batch};
-  for (std::vector<SlabGroup>& groups : scratch.groups) {
-    const int count = static_cast<int>(groups.size());
+  for (int parity = 0; parity < 2; ++parity) {
+    std::vector<SlabGroup>& groups = scratch.groups[parity];
     // Planes, then pairs: the pairs' stamp lies above the planes'.
     PackInput planes = in, pairs = in;
     planes.stamp = in.stamp + kStampStride;
     pairs.stamp = planes.stamp + kStampStride;
     in.stamp = pairs.stamp;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int g = 0; g < count; ++g) {
-      pack_planes(groups[g].statics, planes, groups[g].planes);
-      pack_pairs(groups[g].pairs, pairs, groups[g].pair_batches);
+    // Each thread packs the batches it will solve, into its own cache.
+#pragma omp parallel
+    {
+      const auto [first, last] = group_share(scratch.contacts_before[parity]);
+      for (int g = first; g < last; ++g) {
+        pack_planes(groups[g].statics, planes, groups[g].planes);
+        pack_pairs(groups[g].pairs, pairs, groups[g].pair_batches);
+      }
     }
+    std::vector<std::size_t>& before = scratch.batches_before[parity];
+    before.assign(groups.size() + 1, 0);
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      before[g + 1] = before[g] + groups[g].planes.batches.size() + groups[g].pair_batches.batches.size();
   }
   scratch.serial_pairs.clear();
   for (const SlabContacts& s : world.contacts.slabs)
@@ -277,12 +305,15 @@ void pack_all(World& world, SolverScratch& scratch) {
 }
 
 void unpack_all(World& world, SolverScratch& scratch) {
-  for (std::vector<SlabGroup>& groups : scratch.groups) {
-    const int count = static_cast<int>(groups.size());
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int g = 0; g < count; ++g) {
-      unpack_impulses(groups[g].planes, groups[g].statics);
-      unpack_impulses(groups[g].pair_batches, groups[g].pairs);
+  for (int parity = 0; parity < 2; ++parity) {
+    std::vector<SlabGroup>& groups = scratch.groups[parity];
+#pragma omp parallel
+    {
+      const auto [first, last] = group_share(scratch.contacts_before[parity]);
+      for (int g = first; g < last; ++g) {
+        unpack_impulses(groups[g].planes, groups[g].statics);
+        unpack_impulses(groups[g].pair_batches, groups[g].pairs);
+      }
     }
   }
   std::vector<Contact>* serial = &scratch.serial_pairs;
@@ -337,7 +368,7 @@ void store_warm_start(World& world) {
     for (Contact& c : s.serial) f(c);
   };
   // A slab's contacts all belong to its own rows, so slabs count and fill independently.
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(static)
   for (int s = 0; s < count; ++s)
     each(cs.slabs[s], [&](Contact& c) {
       if (c.normal_impulse > 0.0f) ++cs.warm_begin[c.a + 1];
@@ -345,7 +376,7 @@ void store_warm_start(World& world) {
   for (std::size_t i = 0; i < n; ++i) cs.warm_begin[i + 1] += cs.warm_begin[i];
   cs.warm.resize(cs.warm_begin[n]);
   std::vector<std::uint32_t> cursor(cs.warm_begin.begin(), cs.warm_begin.end() - 1);
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(static)
   for (int s = 0; s < count; ++s)
     each(cs.slabs[s], [&](Contact& c) {
       if (!(c.normal_impulse > 0.0f)) return;  // the counting pass's test exactly (NaN too)

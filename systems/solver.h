@@ -58,6 +58,9 @@ struct SolverScratch {
 
   SolverBodies bodies;
   std::vector<SlabGroup> groups[2];  // of the even slabs, of the odd ones
+  // Per parity, the contacts and the batches of groups [0, k) at k: what packing and the
+  // passes split among threads.
+  std::vector<std::size_t> contacts_before[2], batches_before[2];
   BatchList serial;                  // the pairs that span slabs
   std::vector<Contact> serial_pairs;
   std::vector<std::uint8_t> in_pile;

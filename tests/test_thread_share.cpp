@@ -1,0 +1,91 @@
+// engine/thread_share.h: the threads' shares of a loop are contiguous, in thread order, cover
+// every item exactly once, and are about equal in cost.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "engine/thread_share.h"
+
+using namespace ballpit;
+
+namespace {
+
+// Checks the shares of items with these costs among `threads` threads.
+void expect_fair_shares(const std::vector<std::size_t>& cost, int threads) {
+  std::vector<std::size_t> before(cost.size() + 1, 0);
+  for (std::size_t k = 0; k < cost.size(); ++k) before[k + 1] = before[k] + cost[k];
+  const int count = static_cast<int>(cost.size());
+  const std::size_t total = before.back();
+  const std::size_t largest = cost.empty() ? 0 : *std::max_element(cost.begin(), cost.end());
+  int next = 0;
+  for (int t = 0; t < threads; ++t) {
+    const auto [first, last] =
+        share_of(t, threads, count, [&](int k) { return before[static_cast<std::size_t>(k)]; });
+    EXPECT_EQ(first, next) << "thread " << t << " of " << threads << ": shares must be contiguous";
+    EXPECT_LE(first, last) << "thread " << t;
+    // Each share starts at the first item with t/threads of the cost before it, so it holds at
+    // most that fraction of the total plus the one item that straddles its end.
+    EXPECT_LE(before[last] - before[first], total / threads + largest + 1) << "thread " << t << " of " << threads;
+    next = last;
+  }
+  EXPECT_EQ(next, count) << threads << " threads must cover every item";
+}
+
+TEST(ThreadShare, EqualCostsSplitEvenly) {
+  const std::vector<std::size_t> cost(12, 5);
+  const auto [a0, a1] = share_of(0, 2, 12, [&](int k) { return std::size_t(5) * k; });
+  const auto [b0, b1] = share_of(1, 2, 12, [&](int k) { return std::size_t(5) * k; });
+  EXPECT_EQ(a0, 0);
+  EXPECT_EQ(a1, 6);
+  EXPECT_EQ(b0, 6);
+  EXPECT_EQ(b1, 12);
+  for (int threads = 1; threads <= 5; ++threads) expect_fair_shares(cost, threads);
+}
+
+TEST(ThreadShare, APileAgainstOneWallIsSplitByCostNotCount) {
+  // A pile pushed against one wall: its two slabs hold most of the contacts.
+  const std::vector<std::size_t> cost = {100, 100, 1, 1, 1, 1, 1, 1, 1, 1};
+  auto before = [&](int k) {
+    std::size_t sum = 0;
+    for (int i = 0; i < k; ++i) sum += cost[static_cast<std::size_t>(i)];
+    return sum;
+  };
+  // 100 of 208 before item 1, 200 before item 2: the first thread's share ends at item 2, the
+  // first with half the cost before it (by count it would take five).
+  EXPECT_EQ(share_of(0, 2, 10, before), std::make_pair(0, 2));
+  EXPECT_EQ(share_of(1, 2, 10, before), std::make_pair(2, 10));
+  expect_fair_shares(cost, 2);
+  expect_fair_shares(cost, 3);
+}
+
+TEST(ThreadShare, EmptyAndCostlessItemsStillGetAThread) {
+  expect_fair_shares({}, 1);
+  expect_fair_shares({}, 4);
+  expect_fair_shares({0, 0, 0}, 2);       // nothing to do: the last thread takes all
+  expect_fair_shares({7, 0, 0, 0}, 3);    // trailing items that cost nothing
+  expect_fair_shares({0, 0, 9, 0, 0}, 2);
+  const auto [first, last] = share_of(1, 2, 3, [](int) { return std::size_t{0}; });
+  EXPECT_EQ(first, 0);
+  EXPECT_EQ(last, 3);
+}
+
+TEST(ThreadShare, RandomCostsAndTeamSizes) {
+  std::mt19937 rng(2026);
+  std::uniform_int_distribution<int> size(0, 64), team(1, 9);
+  std::uniform_int_distribution<std::size_t> item(0, 1000);
+  for (int trial = 0; trial < 500; ++trial) {
+    std::vector<std::size_t> cost(static_cast<std::size_t>(size(rng)));
+    for (std::size_t& c : cost) c = item(rng);
+    expect_fair_shares(cost, team(rng));
+  }
+}
+
+TEST(ThreadShare, MoreThreadsThanItems) {
+  expect_fair_shares({3, 4}, 8);
+}
+
+}  // namespace
