@@ -24,6 +24,10 @@ namespace ballpit {
 
 namespace {
 
+// Fewest spheres worth a thread of their own: a settled 1k pile found its contacts in 0.07 ms on
+// 1 thread and 0.11 ms on 2; one of 3k in 0.36 and 0.25 ms.
+constexpr std::size_t kRowsPerThread = 1024;
+
 // NarrowphaseScratch::flags bits.
 constexpr std::uint32_t kFastRow = 1;    // margin beyond what a one-cell search covers
 constexpr std::uint32_t kAsleepRow = 2;
@@ -366,6 +370,7 @@ Access NarrowphaseSystem::access() const {
 }
 
 void find_contacts(World& world, NarrowphaseScratch& scratch) {
+  const TeamSize team(team_for(world.spheres.size(), kRowsPerThread));
   const SphereTable& spheres = world.spheres;
   const SpatialGrid& grid = world.grid;
   const std::size_t n = spheres.size();

@@ -1,6 +1,7 @@
 // engine/thread_share.h: the threads' shares of a loop are contiguous, in thread order, cover
-// every item exactly once, and are about equal in cost.
+// every item exactly once, and are about equal in cost; small work gets a small team.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -86,6 +87,25 @@ TEST(ThreadShare, RandomCostsAndTeamSizes) {
 
 TEST(ThreadShare, MoreThreadsThanItems) {
   expect_fair_shares({3, 4}, 8);
+}
+
+TEST(ThreadShare, SmallWorkGetsASmallTeam) {
+  omp_set_num_threads(2);
+  EXPECT_EQ(team_for(0, 1024), 1);
+  EXPECT_EQ(team_for(2047, 1024), 1);
+  EXPECT_EQ(team_for(2048, 1024), 2);
+  EXPECT_EQ(team_for(std::size_t{1} << 30, 1024), 2);  // never more than the caller's team
+  {
+    const TeamSize one(team_for(100, 1024));
+    int seen = 0;
+#pragma omp parallel
+    {
+#pragma omp single
+      seen = omp_get_num_threads();
+    }
+    EXPECT_EQ(seen, 1);
+  }
+  EXPECT_EQ(omp_get_max_threads(), 2) << "TeamSize gives the caller its team size back";
 }
 
 }  // namespace
