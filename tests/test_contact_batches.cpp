@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <random>
 #include <set>
 
+#include "systems/batch_kernels.h"
 #include "systems/contact_batches.h"
 #include "systems/solver_bodies.h"
 
@@ -147,4 +149,39 @@ TEST(ContactBatches, ImpulsesComeBackToTheContactsTheyCameFrom) {
       EXPECT_EQ(c.normal_impulse, static_cast<float>(c.a) + 0.5f);
       EXPECT_EQ(c.friction_impulse.x(), static_cast<float>(c.b));
     }
+}
+
+TEST(ContactBatches, EmptyLanesWriteNothing) {
+  // A batch's empty lanes point at padding bodies that every batch shares. A pass must not write
+  // them: threads that wrote them (even the same values) took each other's cache lines, and 2
+  // threads ran slower than 1. Here the padding is mobile, overlapping and closing, so a pass
+  // that stored its empty lanes would change it, on every instruction set this CPU runs.
+  std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
+  Packed p = pack({{pair(0, 1)}}, last);
+  ASSERT_EQ(p.batches.batches.size(), 1u);
+  ASSERT_EQ(p.batches.batches[0].used, 1u);
+  for (const BatchKernels* kernels : available_batch_kernels()) {
+    SolverBodies bodies;
+    bodies.rows = kRows;
+    bodies.body.resize(kRows + SolverBodies::kPadRows);
+    for (std::size_t k = 0; k < bodies.body.size(); ++k) {
+      const float x = 0.05f * static_cast<float>(k % 2);  // pairs 0.03 m deep into each other
+      bodies.body[k] = {{1.0f - 2.0f * x, 0.5f, 0.0f, 1.0f}, {0.1f, 0.2f, 0.3f, 0.0f}, {x, 1.0f, 0.0f, 0.04f}, {}};
+    }
+    const std::vector<SolverBody> padding(bodies.body.begin() + kRows, bodies.body.end());
+    const SolverBody first = bodies.body[0];
+    BatchPassArgs args;
+    args.params = {1.0f / 360.0f, 360.0f, 0.4f * 360.0f, 4.0f, 0.5f};
+    for (const bool spin : {false, true})
+      for (const ContactPass pass : {ContactPass::WarmStart, ContactPass::Solve, ContactPass::Relax}) {
+        BatchPassResult result;
+        ContactBatch* batch = p.batches.batches.data();
+        kernels->get(BatchKind::Pairs, pass, spin)(batch, batch + 1, bodies, args, result);
+      }
+    EXPECT_NE(bodies.body[0].velocity.x, first.velocity.x) << kernels->name << ": the used lane must act";
+    for (std::size_t k = 0; k < padding.size(); ++k) {
+      const SolverBody& now = bodies.body[kRows + k];
+      EXPECT_EQ(std::memcmp(&now, &padding[k], sizeof(SolverBody)), 0) << kernels->name << ": padding body " << k;
+    }
+  }
 }
