@@ -25,8 +25,10 @@
 // Parallelism without graph colouring: contacts are listed per grid slab (engine/
 // contact_set.h). Slabs of one parity never share a sphere, so each parity is one parallel
 // sweep, over groups of such slabs packed together (one slab's list is too much of a chain to
-// fill the lanes); then the pairs that span slabs. The result is the same for any number of
-// threads, any grouping and any instruction set.
+// fill the lanes); then the pairs that span slabs. Each thread takes the same contiguous run of
+// groups in every pass (engine/thread_share.h), so the bodies and batches it touches stay in
+// its core's cache. The result is the same for any number of threads, any grouping and any
+// instruction set.
 #pragma once
 
 #include <cstdint>
