@@ -37,12 +37,13 @@ constexpr int kMaxSlabsPerGroup = 8;
 // first).
 constexpr int kColliderGuardPasses = 4;
 
-// The calling thread's groups of one parity: contiguous runs of about the same number of
-// contacts, so each thread keeps its stretch of the pit, and its bodies and batches in its own
-// cache, from pass to pass (engine/thread_share.h).
-std::pair<int, int> group_share(const std::vector<std::size_t>& contacts_before) {
-  return thread_share(static_cast<int>(contacts_before.size()) - 1,
-                      [&](int k) { return contacts_before[static_cast<std::size_t>(k)]; });
+// The calling thread's groups of one parity: contiguous runs of about equal cost (the cost of
+// groups [0, k) at cost_before[k]: contacts when packing, batches in the passes), so each thread
+// keeps its stretch of the pit, and its bodies and batches in its own cache, from pass to pass
+// (engine/thread_share.h).
+std::pair<int, int> group_share(const std::vector<std::size_t>& cost_before) {
+  return thread_share(static_cast<int>(cost_before.size()) - 1,
+                      [&](int k) { return cost_before[static_cast<std::size_t>(k)]; });
 }
 
 V3<float> xyz(const Quad& q) { return {q.x, q.y, q.z}; }
@@ -286,7 +287,8 @@ void pack_all(World& world, SolverScratch& scratch) {
     planes.stamp = in.stamp + kStampStride;
     pairs.stamp = planes.stamp + kStampStride;
     in.stamp = pairs.stamp;
-    // Each thread packs the batches it will solve, into its own cache.
+    // Each thread packs about the stretch it will solve, into its own cache (the passes split by
+    // batches, known only now, which moves at most a group between threads).
 #pragma omp parallel
     {
       const auto [first, last] = group_share(scratch.contacts_before[parity]);
