@@ -1,9 +1,12 @@
 // The contact solver on worlds of one to three spheres, against closed-form answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "engine/metrics.h"
 #include "engine/pour_scene.h"
 #include "engine/state_hash.h"
+#include "engine/thread_share.h"
 #include "systems/batch_kernels.h"
 #include "systems/grid.h"
 #include "systems/narrowphase.h"
@@ -174,8 +177,49 @@ TEST(Solver, EveryInstructionSetGivesTheSameState) {
 TEST(Solver, HowSlabsAreGroupedChangesNoBit) {
   // Slabs of one parity share no sphere, so packing them one to a group or several changes the
   // lanes they fill, not the result.
-  SolverScratch alone, together;
+  SolverScratch alone, together, by_contacts;
   alone.slabs_per_group = 1;
   together.slabs_per_group = 5;
-  EXPECT_EQ(pour_hash_with(alone), pour_hash_with(together));
+  const std::string expected = pour_hash_with(alone);
+  EXPECT_EQ(pour_hash_with(together), expected);
+  EXPECT_EQ(pour_hash_with(by_contacts), expected);  // the default: cut by contacts
+}
+
+TEST(Solver, DefaultGroupsGiveEachThreadAnEqualShare) {
+  // A thread takes whole groups, so groups of unequal work, or a number of groups the team does
+  // not divide, leave one thread waiting on the other at the end of every pass. 12k spheres: a
+  // pit 26 slabs wide, 13 of each parity, which no number of equal-sized groups splits evenly.
+  const TeamSize two(2);
+  World w;
+  PourScene scene;
+  scene.spheres = 12000;
+  scene.build(w);
+  GridSystem grid;
+  NarrowphaseScratch narrow;
+  SolverScratch scratch;
+  for (int i = 0; i < 60; ++i) {
+    grid.run(w);
+    find_contacts(w, narrow);
+    solve_contacts(w, scratch);
+  }
+  // The groups of the last step, against the contacts it found.
+  const std::vector<SlabContacts>& slabs = w.contacts.slabs;
+  for (int parity = 0; parity < 2; ++parity) {
+    std::size_t total = 0, largest_slab = 0;
+    for (std::size_t s = static_cast<std::size_t>(parity); s < slabs.size(); s += 2) {
+      const std::size_t contacts = slabs[s].pairs.size() + slabs[s].statics.size();
+      total += contacts;
+      largest_slab = std::max(largest_slab, contacts);
+    }
+    const std::vector<std::size_t>& before = scratch.contacts_before[parity];
+    const int groups = static_cast<int>(scratch.groups[parity].size());
+    ASSERT_EQ(before.size(), scratch.groups[parity].size() + 1);
+    ASSERT_EQ(before.back(), total);
+    EXPECT_EQ(groups % 2, 0) << "parity " << parity;
+    for (int t = 0; t < 2; ++t) {
+      const auto [first, last] = share_of(t, 2, groups, [&](int g) { return before[static_cast<std::size_t>(g)]; });
+      const std::size_t share = before[static_cast<std::size_t>(last)] - before[static_cast<std::size_t>(first)];
+      EXPECT_LE(share, total / 2 + largest_slab) << "parity " << parity << ", thread " << t;
+    }
+  }
 }
