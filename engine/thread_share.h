@@ -21,22 +21,29 @@ namespace ballpit {
 
 // Items [first, last) of thread `thread` of `threads`, for `count` items whose cost up to item
 // k is cost_before(k), non-decreasing, from cost_before(0) = 0 to the total at k = count. Thread
-// t starts at the first item with at least t/threads of the total cost before it, so the shares
-// are contiguous, in thread order, cover every item once, and each costs at most
-// total/threads plus one item more. Items that cost nothing at the end go to the last thread.
+// t starts at the item boundary nearest to t/threads of the total cost (on a tie, the later
+// one), so the shares are contiguous, in thread order, cover every item once, and each costs at
+// most total/threads plus one item more. Nearest rather than first past: with a few dozen slabs
+// a thread, the first boundary past half gave the first of 2 threads up to a slab more, and on
+// average half a slab more, than the other. Items that cost nothing at the end go to the last
+// thread.
 template <class CostBefore>
 std::pair<int, int> share_of(int thread, int threads, int count, CostBefore&& cost_before) {
   const std::size_t total = cost_before(count);
+  // Costs times threads, so that the targets t x total / threads are whole numbers.
+  const std::size_t n = static_cast<std::size_t>(threads);
+  auto scaled = [&](int k) { return cost_before(k) * n; };
   auto start_of = [&](int t) {
     if (t <= 0) return 0;
     if (t >= threads) return count;
-    const std::size_t target = total * static_cast<std::size_t>(t) / static_cast<std::size_t>(threads);
-    int lo = 0, hi = count;  // first k in [lo, hi] with cost_before(k) >= target
+    const std::size_t target = total * static_cast<std::size_t>(t);
+    int lo = 0, hi = count;  // first k in [lo, hi] with scaled(k) >= target
     while (lo < hi) {
       const int mid = lo + (hi - lo) / 2;
-      if (cost_before(mid) < target) lo = mid + 1;
+      if (scaled(mid) < target) lo = mid + 1;
       else hi = mid;
     }
+    if (lo > 0 && target - scaled(lo - 1) < scaled(lo) - target) --lo;
     return lo;
   };
   return {start_of(thread), start_of(thread + 1)};

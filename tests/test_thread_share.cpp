@@ -15,10 +15,22 @@ using namespace ballpit;
 
 namespace {
 
-// Checks the shares of items with these costs among `threads` threads.
-void expect_fair_shares(const std::vector<std::size_t>& cost, int threads) {
+// The cost of items [0, k) at k.
+std::vector<std::size_t> costs_before(const std::vector<std::size_t>& cost) {
   std::vector<std::size_t> before(cost.size() + 1, 0);
   for (std::size_t k = 0; k < cost.size(); ++k) before[k + 1] = before[k] + cost[k];
+  return before;
+}
+
+// Thread t's share of 2 for items with these costs.
+std::pair<int, int> half(int t, const std::vector<std::size_t>& cost) {
+  const std::vector<std::size_t> before = costs_before(cost);
+  return share_of(t, 2, static_cast<int>(cost.size()), [&](int k) { return before[static_cast<std::size_t>(k)]; });
+}
+
+// Checks the shares of items with these costs among `threads` threads.
+void expect_fair_shares(const std::vector<std::size_t>& cost, int threads) {
+  const std::vector<std::size_t> before = costs_before(cost);
   const int count = static_cast<int>(cost.size());
   const std::size_t total = before.back();
   const std::size_t largest = cost.empty() ? 0 : *std::max_element(cost.begin(), cost.end());
@@ -28,8 +40,8 @@ void expect_fair_shares(const std::vector<std::size_t>& cost, int threads) {
         share_of(t, threads, count, [&](int k) { return before[static_cast<std::size_t>(k)]; });
     EXPECT_EQ(first, next) << "thread " << t << " of " << threads << ": shares must be contiguous";
     EXPECT_LE(first, last) << "thread " << t;
-    // Each share starts at the first item with t/threads of the cost before it, so it holds at
-    // most that fraction of the total plus the one item that straddles its end.
+    // Each share starts and ends at the item boundaries nearest to its fraction of the total,
+    // so it holds at most that fraction plus half an item at either end.
     EXPECT_LE(before[last] - before[first], total / threads + largest + 1) << "thread " << t << " of " << threads;
     next = last;
   }
@@ -50,15 +62,10 @@ TEST(ThreadShare, EqualCostsSplitEvenly) {
 TEST(ThreadShare, APileAgainstOneWallIsSplitByCostNotCount) {
   // A pile pushed against one wall: its two slabs hold most of the contacts.
   const std::vector<std::size_t> cost = {100, 100, 1, 1, 1, 1, 1, 1, 1, 1};
-  auto before = [&](int k) {
-    std::size_t sum = 0;
-    for (int i = 0; i < k; ++i) sum += cost[static_cast<std::size_t>(i)];
-    return sum;
-  };
-  // 100 of 208 before item 1, 200 before item 2: the first thread's share ends at item 2, the
-  // first with half the cost before it (by count it would take five).
-  EXPECT_EQ(share_of(0, 2, 10, before), std::make_pair(0, 2));
-  EXPECT_EQ(share_of(1, 2, 10, before), std::make_pair(2, 10));
+  // 100 of 208 before item 1, 200 before item 2: the first thread's share ends at item 1, the
+  // boundary nearest half the cost (by count it would take five).
+  EXPECT_EQ(half(0, cost), std::make_pair(0, 1));
+  EXPECT_EQ(half(1, cost), std::make_pair(1, 10));
   expect_fair_shares(cost, 2);
   expect_fair_shares(cost, 3);
 }
@@ -83,6 +90,16 @@ TEST(ThreadShare, RandomCostsAndTeamSizes) {
     for (std::size_t& c : cost) c = item(rng);
     expect_fair_shares(cost, team(rng));
   }
+}
+
+TEST(ThreadShare, ShareEndsAtTheNearestBoundary) {
+  // Half of the cost lies inside item 2: the first thread's share ends at whichever of its
+  // boundaries is nearer half (the first past it would take item 2 whatever its cost).
+  // Boundary after item 1 (20 of 51) is 5.5 from half, after item 2 (50) 24.5: it ends at 2.
+  EXPECT_EQ(half(0, {10, 10, 30, 1}), std::make_pair(0, 2));
+  EXPECT_EQ(half(1, {10, 10, 30, 1}), std::make_pair(2, 4));
+  // Equally near (20 and 30 of 50): the later boundary.
+  EXPECT_EQ(half(0, {10, 10, 10, 20}), std::make_pair(0, 3));
 }
 
 TEST(ThreadShare, MoreThreadsThanItems) {
