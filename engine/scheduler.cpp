@@ -78,7 +78,10 @@ bool Scheduler::execute_ready(std::unique_lock<std::mutex>& lock) {
     for (std::size_t j : successors_[i])
       if (--waiting_on_[j] == 0) ready_.push_back(j);
   }
-  wake_.notify_all();
+  // This thread takes the next ready system itself: wake the others only for more than that, and
+  // run_frame's caller only if it sleeps. A chain of dependent systems (the pit's grid,
+  // narrowphase and solver) then wakes no thread.
+  if (ready_.size() > 1 || ((unfinished_ == 0 || error_) && caller_waiting_)) wake_.notify_all();
   return true;
 }
 
@@ -108,11 +111,13 @@ void Scheduler::run_frame(World& world) {
     error_ = nullptr;
     world_ = &world;
     ++frame_id_;
-    wake_.notify_all();
+    if (ready_.size() > 1) wake_.notify_all();  // one ready system: this thread runs it
     while (true) {
       if (execute_ready(lock)) continue;
       if (unfinished_ == 0 || (error_ && running_ == 0)) break;
+      caller_waiting_ = true;
       wake_.wait(lock);
+      caller_waiting_ = false;
     }
     world_ = nullptr;
   }

@@ -65,6 +65,7 @@ class Scheduler {
   World* world_ = nullptr;
   std::exception_ptr error_;
   bool stop_workers_ = false;
+  bool caller_waiting_ = false;  // run_frame's caller sleeps until the frame ends or fails
   std::uint64_t frame_id_ = 0;
 
   std::vector<std::thread> workers_;
