@@ -239,6 +239,17 @@ void mark_piled_rows(std::vector<SlabContacts>& slabs, std::vector<std::uint8_t>
   for (const SlabContacts& s : slabs) mark(s.serial);
 }
 
+// How many groups a parity's `own` slabs are cut into: four a thread, at most eight slabs and at
+// least two to a group, and a multiple of the team where that allows.
+int group_count(int own, int threads, int slabs_per_group) {
+  if (slabs_per_group > 0) return (own + slabs_per_group - 1) / slabs_per_group;
+  const int enough = std::max(kGroupsPerThread * threads, (own + kMaxSlabsPerGroup - 1) / kMaxSlabsPerGroup);
+  const int most = std::max(1, own / kMinSlabsPerGroup);
+  const int wanted = (enough + threads - 1) / threads * threads;
+  if (wanted <= most) return wanted;
+  return most >= threads ? most / threads * threads : most;
+}
+
 // Slabs grouped by parity, a few to a group: enough slabs to fill the batches' lanes (one slab
 // of a settled 100k pile fills 59% of them, four 90%, eight 97%) and enough groups, four a
 // thread, for group_share to even out the threads' work. The groups are cut by contacts, not by
@@ -249,32 +260,21 @@ void group_slabs(World& world, SolverScratch& scratch) {
   std::vector<SlabContacts>& slabs = world.contacts.slabs;
   const int count = static_cast<int>(slabs.size());
   const int threads = std::max(1, omp_get_max_threads());
+  const int fixed = scratch.slabs_per_group;
   for (int parity = 0; parity < 2; ++parity) {
     const int own = (count - parity + 1) / 2;  // slabs parity, parity + 2, ...
-    auto slab = [&](int j) { return parity + 2 * j; };
-    std::vector<std::size_t>& before = scratch.contacts_before[parity];
-    // First the contacts of this parity's slabs [0, j) at j, then of groups [0, g) at g.
-    before.assign(static_cast<std::size_t>(own) + 1, 0);
-    for (int j = 0; j < own; ++j) {
-      const SlabContacts& s = slabs[static_cast<std::size_t>(slab(j))];
-      before[j + 1] = before[j] + s.pairs.size() + s.statics.size();
-    }
-    int wanted;
-    if (scratch.slabs_per_group > 0) {
-      wanted = (own + scratch.slabs_per_group - 1) / scratch.slabs_per_group;
-    } else {
-      const int enough = std::max(kGroupsPerThread * threads, (own + kMaxSlabsPerGroup - 1) / kMaxSlabsPerGroup);
-      const int most = std::max(1, own / kMinSlabsPerGroup);
-      wanted = (enough + threads - 1) / threads * threads;
-      if (wanted > most) wanted = most >= threads ? most / threads * threads : most;
-    }
+    auto slab = [&](int j) -> SlabContacts& { return slabs[static_cast<std::size_t>(parity + 2 * j)]; };
+    std::vector<std::size_t> slab_before(static_cast<std::size_t>(own) + 1, 0);  // contacts of slabs [0, j)
+    for (int j = 0; j < own; ++j) slab_before[j + 1] = slab_before[j] + slab(j).pairs.size() + slab(j).statics.size();
+    const int wanted = group_count(own, threads, fixed);
     std::vector<SlabGroup>& groups = scratch.groups[parity];
-    std::vector<std::size_t> group_before{0};
+    std::vector<std::size_t>& before = scratch.contacts_before[parity];
+    before.assign(1, 0);
     std::size_t used = 0;
     for (int g = 0; g < wanted; ++g) {
-      const auto [first, last] = scratch.slabs_per_group > 0
-                                     ? std::pair(g * scratch.slabs_per_group, std::min(own, (g + 1) * scratch.slabs_per_group))
-                                     : share_of(g, wanted, own, [&](int j) { return before[static_cast<std::size_t>(j)]; });
+      const auto [first, last] =
+          fixed > 0 ? std::pair(g * fixed, std::min(own, (g + 1) * fixed))
+                    : share_of(g, wanted, own, [&](int j) { return slab_before[static_cast<std::size_t>(j)]; });
       if (first == last) continue;
       if (used == groups.size()) groups.emplace_back();
       SlabGroup& group = groups[used++];
@@ -282,14 +282,13 @@ void group_slabs(World& world, SolverScratch& scratch) {
       group.statics.clear();
       group.pairs.clear();
       for (int j = first; j < last; ++j) {
-        group.slabs.push_back(slab(j));
-        group.statics.push_back(&slabs[static_cast<std::size_t>(slab(j))].statics);
-        group.pairs.push_back(&slabs[static_cast<std::size_t>(slab(j))].pairs);
+        group.slabs.push_back(parity + 2 * j);
+        group.statics.push_back(&slab(j).statics);
+        group.pairs.push_back(&slab(j).pairs);
       }
-      group_before.push_back(before[static_cast<std::size_t>(last)]);
+      before.push_back(slab_before[static_cast<std::size_t>(last)]);
     }
     groups.resize(used);
-    before = std::move(group_before);
   }
 }
 
