@@ -15,6 +15,9 @@ namespace {
 // More open batches fill more lanes but spread each batch over more of the list.
 constexpr std::size_t kOpenBatches = 32;
 
+// How many batches past the newest one packing asks the cache for.
+constexpr std::size_t kPrefetchBatches = 2;
+
 // Batches in index order; last[row] is stamp + one past the index of the latest batch holding
 // the row (less than stamp: none in this packing). A contact joins the earliest open batch after
 // every batch that already holds one of its spheres, so each sphere meets its contacts in list
@@ -52,6 +55,13 @@ class Window {
     batch.used = batch.loaded_last_step = batch.free_pair = 0;
     out_.source.resize(out_.source.size() + kBatchLanes, kNoSource);
     lanes_.push_back(0);
+    // The list keeps its memory from step to step, so a new batch's lines are last step's, long
+    // gone from the near caches, and its first store waited on them: ask for a batch a few
+    // ahead, never past the capacity (that memory is not the list's).
+    const std::size_t ahead = out_.batches.size() + kPrefetchBatches;
+    if (ahead < out_.batches.capacity())
+      for (std::size_t line = 0; line < sizeof(ContactBatch); line += 64)
+        __builtin_prefetch(reinterpret_cast<const char*>(out_.batches.data() + ahead) + line, 1);
   }
 
   BatchList& out_;
