@@ -12,7 +12,7 @@ import statistics
 from report_common import machine_line, md_table
 
 NAME = re.compile(r"^(?P<system>[^/]+)/(?P<kind>[^/]+)/n:(?P<n>\d+)/threads:(?P<threads>\d+)")
-SYSTEM_ORDER = ["grid_sort", "grid", "narrowphase", "solver", "integrate", "sleeping", "substep_control"]
+SYSTEM_ORDER = ["grid_sort", "grid", "narrowphase", "solver", "solver_one_substep", "integrate", "sleeping", "substep_control"]
 TO_MS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 
 
@@ -78,7 +78,8 @@ def main():
            "settled pit (cubic lattice of touching spheres in the pour pit, at rest), **settled** = "
            "the real pour after 300 steps. `grid_sort` is the counting sort alone, `grid` is the "
            "system (sort + permuting every sphere column). The solver figure includes all its "
-           "substeps (integration included); `integrate` is one velocity + position update, "
+           "substeps (integration included); `solver_one_substep` is the same step with one substep, "
+           "which splits the solver's cost (table after each world's); `integrate` is one velocity + position update, "
            "which the solver runs once per substep. `sleeping` runs on an awake pit. "
            "`substep_control` is what `--tolerance` adds per step: the overlap of every contact "
            "and the substep decision.\n",
@@ -103,8 +104,29 @@ def main():
                 ])
         out.append(md_table(["system", "N", "ms/step 1 thread (median / min)", "ms/step 2 threads (median / min)",
                              "ns/sphere 1t", "ns/sphere 2t", "speed-up 2t/1t (medians)", "contacts"], table))
+        out.append(solver_split(results, kind, num))
     with open(a.md, "w") as f:
         f.write("\n".join(out))
+
+
+def solver_split(results, kind, num):
+    """The solver's cost as F + S x P: S substeps of P each (the passes) and F once a step
+    (bodies in and out, packing, impulses back, warm-start cache), from the medians of the
+    default's S substeps and of one."""
+    table = []
+    for (system, k, n, threads), full in sorted(results.items(), key=lambda item: (item[0][2], item[0][3])):
+        one = results.get(("solver_one_substep", kind, n, threads))
+        if system != "solver" or k != kind or not one or not full.get("substeps") or full["substeps"] <= 1:
+            continue
+        per_substep = (full["ms_per_step"] - one["ms_per_step"]) / (full["substeps"] - 1)
+        once = one["ms_per_step"] - per_substep
+        table.append([f"{n:,}", str(threads), f"{full['substeps']:.0f}", num(full["ms_per_step"], 4), num(once, 3),
+                      num(per_substep, 3), f"{100 * once / full['ms_per_step']:.0f}%"])
+    if not table:
+        return ""
+    return (f"Solver, {kind} world: once a step against per substep (from the medians above; noise in either "
+            "figure moves both).\n\n" + md_table(["N", "threads", "substeps S", "ms/step", "F: once a step (ms)",
+                                                  "P: per substep (ms)", "F share"], table))
 
 
 if __name__ == "__main__":
