@@ -11,25 +11,23 @@
 namespace ballpit::profiling {
 namespace {
 
-[[maybe_unused]] const bool kSolver = register_system("solver", [](benchmark::State& state, World& world, std::size_t n) {
-  SolverScratch scratch;
-  timed_loop(state, n, [&] { solve_contacts(world, scratch); });
-  state.counters["contacts"] = static_cast<double>(contact_count(world));
-  state.counters["substeps"] = world.solver.substeps;
-});
+// One step of the solver with `substeps` substeps (0: the world's own, the default's six).
+auto solver_step(int substeps) {
+  return [substeps](benchmark::State& state, World& world, std::size_t n) {
+    if (substeps > 0) world.solver.substeps = substeps;
+    SolverScratch scratch;
+    timed_loop(state, n, [&] { solve_contacts(world, scratch); });
+    state.counters["contacts"] = static_cast<double>(contact_count(world));
+    state.counters["substeps"] = world.solver.substeps;
+  };
+}
 
+[[maybe_unused]] const bool kSolver = register_system("solver", solver_step(0));
 // The same step with one substep. A step of S substeps costs about F + S x P, so this figure
-// and the one above (the default's six) split the solver's cost into P, a substep's passes, and
-// F, the work done once a step however many substeps it has (copying the bodies in and out,
-// packing the contacts into batches, writing impulses back and the warm-start cache).
-[[maybe_unused]] const bool kSolverOneSubstep =
-    register_system("solver_one_substep", [](benchmark::State& state, World& world, std::size_t n) {
-      world.solver.substeps = 1;
-      SolverScratch scratch;
-      timed_loop(state, n, [&] { solve_contacts(world, scratch); });
-      state.counters["contacts"] = static_cast<double>(contact_count(world));
-      state.counters["substeps"] = world.solver.substeps;
-    });
+// and the one above split the solver's cost into P, a substep's passes, and F, the work done
+// once a step however many substeps it has (copying the bodies in and out, packing the
+// contacts into batches, writing impulses back and the warm-start cache).
+[[maybe_unused]] const bool kSolverOneSubstep = register_system("solver_one_substep", solver_step(1));
 
 }  // namespace
 }  // namespace ballpit::profiling

@@ -104,7 +104,9 @@ def main():
                 ])
         out.append(md_table(["system", "N", "ms/step 1 thread (median / min)", "ms/step 2 threads (median / min)",
                              "ns/sphere 1t", "ns/sphere 2t", "speed-up 2t/1t (medians)", "contacts"], table))
-        out.append(solver_split(results, kind, num))
+        split = solver_split(results, kind, num)
+        if split:
+            out.append(split)
     with open(a.md, "w") as f:
         f.write("\n".join(out))
 
@@ -114,9 +116,10 @@ def solver_split(results, kind, num):
     (bodies in and out, packing, impulses back, warm-start cache), from the medians of the
     default's S substeps and of one."""
     table = []
-    for (system, k, n, threads), full in sorted(results.items(), key=lambda item: (item[0][2], item[0][3])):
+    for n, threads in sorted((n, t) for (system, k, n, t) in results if system == "solver" and k == kind):
+        full = results[("solver", kind, n, threads)]
         one = results.get(("solver_one_substep", kind, n, threads))
-        if system != "solver" or k != kind or not one or not full.get("substeps") or full["substeps"] <= 1:
+        if not one or not full.get("substeps") or full["substeps"] <= 1:
             continue
         per_substep = (full["ms_per_step"] - one["ms_per_step"]) / (full["substeps"] - 1)
         once = one["ms_per_step"] - per_substep
