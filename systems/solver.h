@@ -4,7 +4,9 @@
 // no bias, so push-out never becomes bounce). Impacts faster than the restitution threshold
 // get their restitution when they happen, inside the substep, and the part of the substep
 // before the impact is accounted for exactly (impact_shift), so a dropped ball returns to e^2
-// of its height instead of losing a substep's worth of travel each bounce.
+// of its height instead of losing a substep's worth of travel each bounce. After the last
+// substep two guards hold what must hold whatever the contacts did: no sphere is left inside a
+// joint collider, nor a centre past the pit's floor or walls.
 //
 // Reads: radii, inverse masses, sleep, rows, colliders, gravity.
 // Writes: positions, velocities, angular velocities, contacts (impulses, warm-start cache).

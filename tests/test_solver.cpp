@@ -46,6 +46,31 @@ TEST(Solver, OverlappingSpheresSeparateNoFasterThanThePushOutCap) {
   EXPECT_LE(max_speed, 0.5f);
 }
 
+TEST(Solver, PushOutNeverCarriesABallDeepIntoThePit) {
+  // A ball 0.3 r from the floor or a wall, at rest, has no contact with it yet (its margin is
+  // 0.05 r); a ball twenty times heavier spawned 1.8 r into it from the other side pushes it
+  // there at nearly the push-out cap, 1.6 r in a step. Without the pit guard it ends the step
+  // with its centre past the plane.
+  const float r = 0.04f, half = 1.0f;
+  for (const Vec3& out : {Vec3(0, -1, 0), Vec3(1, 0, 0)}) {  // the floor, the +x wall
+    test::Sim s;
+    test::make_pit(s.world, half, 0.0f, 0.0f);
+    s.world.set_gravity(Vec3::Zero());
+    const Vec3 plane_point = out.y() < 0 ? Vec3(0, 0, 0) : Vec3(half, 0.5f, 0);
+    Entity near = test::add_ball(s.world, plane_point - 1.3f * r * out);
+    Entity heavy = test::add_ball(s.world, plane_point - 1.5f * r * out, Vec3::Zero(), r, 1.0f);
+    s.start();
+    s.step();
+    const float depth_r = ((s.position(near) - plane_point).dot(out) + r) / r;
+    EXPECT_GT(depth_r, 0.9f) << out.transpose();  // the push did reach the plane: the case above
+    EXPECT_LE(depth_r, 1.0f + 1e-5f) << out.transpose();  // the guard's bound, to float precision
+    s.step(60);
+    // And the plane's contact takes the rest: the ball rests on it, the heavy one on the ball.
+    EXPECT_NEAR((s.position(near) - plane_point).dot(out), -r, 0.01f * r) << out.transpose();
+    EXPECT_NEAR((s.position(near) - s.position(heavy)).dot(out), 2 * r, 0.01f * r) << out.transpose();
+  }
+}
+
 TEST(Solver, ASlidingBallEndsRollingAtFiveSeventhsOfItsSpeed) {
   // A solid sphere launched sliding on a rough floor: friction turns sliding into rolling,
   // and angular momentum about the contact point conserves v_final = 5/7 v0.
