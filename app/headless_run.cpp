@@ -108,7 +108,7 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   // A snapshot or scene file carries its own solver settings: only flags given override them.
   if (!(loaded || use_file) || o.sleeping) world.solver.sleeping = o.sleeping;
   if (o.naive) world.solver.narrowphase = NarrowphaseMode::Naive;
-  if (o.substeps > 0) world.solver.substeps = o.substeps;
+  if (o.substeps > 0) world.set_substeps(o.substeps);
   world.validate_settings();
 
   Scheduler scheduler(o.threads);

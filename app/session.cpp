@@ -143,8 +143,7 @@ void Session::set_friction(float mu) {
 }
 
 void Session::set_substeps(int substeps) {
-  if (substeps < 1 || substeps > 64) throw Error("substeps must be in [1, 64], got " + std::to_string(substeps));
-  world_->solver.substeps = substeps;
+  world_->set_substeps(substeps);
   solver_ = world_->solver;
   solver_overridden_ = true;
 }

@@ -47,6 +47,17 @@ void World::set_step(float dt) {
   dt_ = dt;
 }
 
+void World::set_substeps(int substeps) {
+  if (substeps < 1 || substeps > 64) throw Error("solver.substeps must be in [1, 64], got " + std::to_string(substeps));
+  if (substeps == solver.substeps) return;
+  const float scale = static_cast<float>(solver.substeps) / static_cast<float>(substeps);
+  for (WarmStartEntry& e : contacts.warm) {
+    e.normal_impulse *= scale;
+    e.friction_impulse *= scale;
+  }
+  solver.substeps = substeps;
+}
+
 std::uint16_t World::add_material(const Material& m) {
   if (!(m.restitution >= 0.0f && m.restitution <= 1.0f))
     throw Error("material restitution must be in [0, 1], got " + std::to_string(m.restitution));

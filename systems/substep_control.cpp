@@ -117,7 +117,8 @@ int SubstepController::next(int substeps, double overlap_r) {
 
 Access SubstepControlSystem::access() const {
   Access a;
-  a.reads = {ColumnId::SpherePosition, ColumnId::SphereRadius, ColumnId::Contacts, ColumnId::Colliders};
+  a.reads = {ColumnId::SpherePosition, ColumnId::SphereRadius, ColumnId::Colliders};
+  a.writes = {ColumnId::Contacts};  // the warm-start cache, scaled to the new substeps (World::set_substeps)
   return a;
 }
 
@@ -131,7 +132,7 @@ void SubstepControlSystem::run(World& world) {
   st.substeps_sum += static_cast<std::uint64_t>(used);
   st.max_overlap_r = std::max(st.max_overlap_r, overlap);
   if (overlap > controller_.settings().tolerance_r) ++st.steps_over;
-  world.solver.substeps = controller_.next(used, overlap);
+  world.set_substeps(controller_.next(used, overlap));
 }
 
 }  // namespace ballpit
