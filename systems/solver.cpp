@@ -387,12 +387,13 @@ void guard_colliders(Step& step) {
 constexpr float kPitGuardDepth = 1.0f;
 
 // Pit guard, once after the last substep: a sphere deeper than kPitGuardDepth in a pit plane is
-// moved back to that depth, its centre onto the plane. The narrowphase finds a sphere's plane contacts within a margin for
-// its speed, but push-out moves it too, at up to its cap: a crowd spawned inside itself pushes
-// its bottom row down at the cap, and with no floor contact yet a ball went 1.55 r into the
-// floor in one step (1,000 balls in a tenth of their room, 8 substeps). The pit is infinitely
-// heavy and must win, as a collider must (guard_colliders). Only the position is corrected,
-// and only as far as the bound: the next step's contact takes the rest, with its restitution.
+// moved back to that depth, its centre onto the plane. The narrowphase finds a sphere's plane
+// contacts within a margin for its speed, but push-out moves it too, at up to its cap: a crowd
+// spawned inside itself pushes its bottom row down at the cap, and with no floor contact yet a
+// ball went 1.55 r into the floor in one step (1,000 balls in a tenth of their room, 8
+// substeps). The pit is infinitely heavy and must win, as a collider must (guard_colliders).
+// Only the position is corrected, and only as far as the bound: the next step's contact takes
+// the rest, with its restitution.
 void guard_pit(const Pit& pit, SolverBodies& bodies) {
   const int planes = pit.plane_count();
   const std::int64_t rows = static_cast<std::int64_t>(bodies.rows);
