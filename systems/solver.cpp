@@ -80,7 +80,32 @@ void load_bodies(const SphereTable& spheres, SolverBodies& bodies) {
   }
 }
 
-void store_bodies(const SolverBodies& bodies, SphereTable& spheres) {
+// Deepest a sphere may be left in the pit's floor or walls at the end of a step, as a fraction
+// of its radius: its centre stays in the pit. Impacts can leave a sphere about half a radius
+// into a wall between steps, which the next step's contact bounces exactly (an elastic gas of
+// 2,000, 10,000 steps: 0.26 r at 6 substeps, once 0.54 r at 8); a centre past the plane is
+// no longer one of those.
+constexpr float kPitGuardDepth = 1.0f;
+
+// Pit guard, once after the last substep, as store_bodies writes the positions back: a sphere
+// deeper than kPitGuardDepth in a pit plane is moved back to that depth, its centre onto the
+// plane. The narrowphase finds a sphere's plane contacts within a margin for its speed, but
+// push-out moves it too, at up to its cap: a crowd spawned inside itself pushes its bottom row
+// down at the cap, and with no floor contact yet a ball went 1.55 r into the floor in one step
+// (1,000 balls in a tenth of their room, 8 substeps). The pit is infinitely heavy and must win,
+// as a collider must (guard_colliders). Only the position is corrected, and only as far as the
+// bound: the next step's contact takes the rest, with its restitution.
+Vec3 kept_in_pit(const Pit& pit, Vec3 x, float radius) {
+  for (int k = 0; k < pit.plane_count(); ++k) {
+    if (!pit.plane_applies(k, x)) continue;
+    const Vec3 n = pit.plane_normal(k);
+    const float excess = n.dot(x) - pit.plane_offset(k) - radius + kPitGuardDepth * radius;  // < 0: too deep
+    if (excess < 0.0f) x -= excess * n;
+  }
+  return x;
+}
+
+void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spheres) {
   auto x = spheres.mut_position();
   auto v = spheres.mut_velocity();
   auto r = spheres.radius();
@@ -90,7 +115,7 @@ void store_bodies(const SolverBodies& bodies, SphereTable& spheres) {
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < rows; ++i) {
     const Quad &p = bodies.body[i].position, &u = bodies.body[i].velocity;
-    x[i] = Vec3(p.x, p.y, p.z);
+    x[i] = kept_in_pit(pit, Vec3(p.x, p.y, p.z), p.w);
     v[i] = Vec3(u.x, u.y, u.z);
     if (angular) {
       const Quad& s = bodies.body[i].spin;
@@ -379,37 +404,6 @@ void guard_colliders(Step& step) {
   }
 }
 
-// Deepest a sphere may be left in the pit's floor or walls at the end of a step, as a fraction
-// of its radius: its centre stays in the pit. Impacts can leave a sphere about half a radius
-// into a wall between steps, which the next step's contact bounces exactly (an elastic gas of
-// 2,000, 10,000 steps: 0.26 r at 6 substeps, once 0.54 r at 8); a centre past the plane is
-// no longer one of those.
-constexpr float kPitGuardDepth = 1.0f;
-
-// Pit guard, once after the last substep: a sphere deeper than kPitGuardDepth in a pit plane is
-// moved back to that depth, its centre onto the plane. The narrowphase finds a sphere's plane
-// contacts within a margin for its speed, but push-out moves it too, at up to its cap: a crowd
-// spawned inside itself pushes its bottom row down at the cap, and with no floor contact yet a
-// ball went 1.55 r into the floor in one step (1,000 balls in a tenth of their room, 8
-// substeps). The pit is infinitely heavy and must win, as a collider must (guard_colliders).
-// Only the position is corrected, and only as far as the bound: the next step's contact takes
-// the rest, with its restitution.
-void guard_pit(const Pit& pit, SolverBodies& bodies) {
-  const int planes = pit.plane_count();
-  const std::int64_t rows = static_cast<std::int64_t>(bodies.rows);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < rows; ++i) {
-    Quad& x = bodies.body[i].position;
-    for (int k = 0; k < planes; ++k) {
-      const Vec3 at(x.x, x.y, x.z);
-      if (!pit.plane_applies(k, at)) continue;
-      const Vec3 n = pit.plane_normal(k);
-      const float excess = n.dot(at) - pit.plane_offset(k) - x.w + kPitGuardDepth * x.w;  // < 0: too deep
-      if (excess < 0.0f) x = quad(v3(at - excess * n), x.w);
-    }
-  }
-}
-
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
 // partner's entity (rows move in the next grid rebuild; entities do not).
 void store_warm_start(World& world) {
@@ -495,8 +489,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
     step.args.frames_current = settings.keep_pair_frames && !step.shifted;
   }
   if (world.colliders.size() > 0) guard_colliders(step);
-  guard_pit(world.pit, scratch.bodies);
-  store_bodies(scratch.bodies, spheres);
+  store_bodies(scratch.bodies, world.pit, spheres);
   unpack_all(world, scratch);
   store_warm_start(world);
 }
