@@ -28,7 +28,7 @@ struct alignas(64) ContactBatch {
   float reach[kBatchLanes];  // -kWarmStartReach x the smaller radius: deeper overlaps are not warm-started (m)
   float impact_shift[kBatchLanes];  // (1+e) x gap of an impact this substep, undone after the move (m)
   std::uint32_t loaded_last_step;   // lane bits: carried load at the end of the last step
-  std::uint32_t free_pair;          // lane bits: neither sphere rests in a pile (no impact shift otherwise)
+  std::uint32_t free_pair;          // lane bits: no sphere of it rests in a pile (else no impact shift, nor a plane's impact)
   std::uint32_t used;               // lane bits: lanes that hold a contact
 };
 

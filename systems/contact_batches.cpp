@@ -152,7 +152,7 @@ void pack_planes(ContactLists lists, const PackInput& in, BatchList& out) {
     slot.batch.ny[slot.lane] = n.y();
     slot.batch.nz[slot.lane] = n.z();
     slot.batch.plane_offset[slot.lane] = in.pit.plane_offset(plane);
-    slot.batch.free_pair |= 1u << slot.lane;  // a plane never rests in a pile
+    if (!in.in_pile[c.a]) slot.batch.free_pair |= 1u << slot.lane;  // else the plane gives it no impact
   });
   pad_empty_lanes(out, in.pad_rows);
 }

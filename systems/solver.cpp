@@ -266,8 +266,9 @@ struct Step {
 // spheres resting in a pile. Their impacts with each other get no exact-bounce position
 // correction (impact_shift): moving a piled sphere by a correction its neighbours do not share
 // makes overlaps, whose push-out and impacts pumped energy into piles (pour 4k at 3 substeps:
-// 0.66 J left after 10 s with the correction, 0.0004 J without). Parity sweeps as the solver's,
-// so no two threads write one row.
+// 0.66 J left after 10 s with the correction, 0.0004 J without). Nor does a pit plane strike
+// them (systems/contact_kernel.h): their approach to it is the pile's load. Parity sweeps as the
+// solver's, so no two threads write one row.
 void mark_piled_rows(std::vector<SlabContacts>& slabs, std::vector<std::uint8_t>& in_pile) {
   auto mark = [&](const std::vector<Contact>& contacts) {
     for (const Contact& c : contacts)

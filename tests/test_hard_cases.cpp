@@ -124,8 +124,11 @@ TEST(HardCases, NewtonsCradlePassesTheMomentumToTheLastBall) {
 // A crowd: the push-out cap it separates at and the seed of its random spawn. The default cap
 // (4 m/s since the speed-against-error study showed a 1 m/s cap lets the overlap linger and
 // feed real speed) over several spawns, since one spawn can be lucky: before the solver stopped
-// reading overlaps deeper than one move as impacts (systems/solver.cpp, beyond_reach), seeds
-// 9, 15 and 16 broke the bound that seed 7 met at the default cap, and seed 15 at 1 m/s.
+// reading overlaps deeper than one move as impacts (systems/contact_kernel.h, beyond_reach),
+// seeds 9, 15 and 16 broke the bound that seed 7 met at the default cap, and seed 15 at 1 m/s.
+// Of seeds 1 to 30, 28 still broke it at the default cap (by 8.3 m/s) and 6, 10, 18 and 30 at
+// 1 m/s (by up to 2.7) until a pile pressing a ball into the floor stopped counting as an
+// impact; since then the worst of the 60 runs is 0.23 m/s under the bound.
 struct Crowd {
   float push_out_speed;  // (unit: m/s)
   unsigned seed;
@@ -163,8 +166,9 @@ TEST_P(CrowdAtCap, ACrowdSpawnedInATenthOfItsVolumeSeparatesCalmly) {
 
 constexpr float kDefaultCap = SolverSettings{}.push_out_speed;
 INSTANTIATE_TEST_SUITE_P(HardCases, CrowdAtCap,
-                         ::testing::Values(Crowd{1.0f, 7}, Crowd{1.0f, 15}, Crowd{kDefaultCap, 7}, Crowd{kDefaultCap, 9},
-                                           Crowd{kDefaultCap, 15}, Crowd{kDefaultCap, 16}),
+                         ::testing::Values(Crowd{1.0f, 6}, Crowd{1.0f, 7}, Crowd{1.0f, 10}, Crowd{1.0f, 15},
+                                           Crowd{1.0f, 18}, Crowd{1.0f, 30}, Crowd{kDefaultCap, 7}, Crowd{kDefaultCap, 9},
+                                           Crowd{kDefaultCap, 15}, Crowd{kDefaultCap, 16}, Crowd{kDefaultCap, 28}),
                          [](const ::testing::TestParamInfo<Crowd>& point) {
                            const Crowd& c = point.param;
                            return (c.push_out_speed == kDefaultCap ? std::string("DefaultCap") : std::string("OneMetrePerSecond")) +

@@ -75,8 +75,10 @@ TEST(Solver, PushOutNeverCarriesABallDeepIntoThePit) {
 TEST(Solver, ChangingTheSubstepsLeavesARestingPileAtRest) {
   // The warm-start cache holds impulses of one substep. A pile resting at 3 substeps, switched
   // to 32, warm-starts each of them with ten times its load unless World::set_substeps scales
-  // the cache (unscaled: 0.16 m/s; switched on from 32 to 2, 0.24 m/s). Scaled, it stays at
-  // the 0.0001 m/s it rests at.
+  // the cache (unscaled: 0.16 m/s; switched on from 32 to 2, 0.24 m/s). Scaled, the pile
+  // (resting at 0.0002 m/s) stirs to at most 0.0018 m/s in the first step at 32 substeps and
+  // stays under 0.0001 at 2: the one-substep impulses it had were not the converged ones, so a
+  // finer split redistributes them a little. The bound lies between those and the failure.
   test::Sim s;
   test::make_pit(s.world, 0.3f, 0.5f, 0.5f);
   s.world.solver.substeps = 3;
@@ -95,7 +97,7 @@ TEST(Solver, ChangingTheSubstepsLeavesARestingPileAtRest) {
       s.step();
       fastest = std::max(fastest, measure(s.world).max_speed_mps);
     }
-    EXPECT_LT(fastest, 0.001) << "after switching to " << substeps << " substeps";
+    EXPECT_LT(fastest, 0.005) << "after switching to " << substeps << " substeps";
     s.step(60);
   }
   EXPECT_THROW(s.world.set_substeps(0), Error);
