@@ -126,10 +126,11 @@ struct ContactKernel {
     M strike = (c.restitution > zero) & (c.normal_impulse == zero) & unloaded &
                (vn < broadcast<T>(-p.restitution_threshold)) & (c.gap + vn * h < zero) &
                ((c.gap >= vn * h) | beyond_reach);
-    // Nor is a pile pressing a sphere into a plane or collider an impact: the warm start re-applies
-    // the pile's load to it each substep, which reads as an approach. A sphere under a crowd got
+    // Nor is a pile pressing a sphere into a pit plane an impact: the warm start re-applies the
+    // pile's load to it each substep, which reads as an approach. A sphere under a crowd got
     // 16 m/s of it against the floor, whose impulse Relax had let go, and was bounced out at
-    // 10 m/s at the default cap (1,000 balls spawned in a tenth of their room, seed 28).
+    // 10 m/s at the default cap (1,000 balls spawned in a tenth of their room, seed 28). Joint
+    // colliders pass free_pair set for every sphere (systems/solver.cpp), so they still strike.
     if constexpr (static_partner) strike = strike & c.free_pair;
     M keep = live;
     if constexpr (pass == Pass::Relax) {

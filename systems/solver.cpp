@@ -87,14 +87,6 @@ void load_bodies(const SphereTable& spheres, SolverBodies& bodies) {
 // no longer one of those.
 constexpr float kPitGuardDepth = 1.0f;
 
-// Pit guard, once after the last substep, as store_bodies writes the positions back: a sphere
-// deeper than kPitGuardDepth in a pit plane is moved back to that depth, its centre onto the
-// plane. The narrowphase finds a sphere's plane contacts within a margin for its speed, but
-// push-out moves it too, at up to its cap: a crowd spawned inside itself pushes its bottom row
-// down at the cap, and with no floor contact yet a ball went 1.55 r into the floor in one step
-// (1,000 balls in a tenth of their room, 8 substeps). The pit is infinitely heavy and must win,
-// as a collider must (guard_colliders). Only the position is corrected, and only as far as the
-// bound: the next step's contact takes the rest, with its restitution.
 // The pit's planes looked up once for the guard: through Pit's accessors, which the compiler
 // does not inline, the guard cost more than the copy it rides on (1.06 ms a step at 100k
 // spheres against load_bodies' 0.27).
@@ -111,6 +103,14 @@ struct PitPlaneList {
   float offset[Pit::kMaxPlanes];
 };
 
+// Pit guard, once after the last substep, as store_bodies writes the positions back: a sphere
+// deeper than kPitGuardDepth in a pit plane is moved back to that depth, its centre onto the
+// plane. The narrowphase finds a sphere's plane contacts within a margin for its speed, but
+// push-out moves it too, at up to its cap: a crowd spawned inside itself pushes its bottom row
+// down at the cap, and with no floor contact yet a ball went 1.55 r into the floor in one step
+// (1,000 balls in a tenth of their room, 8 substeps). The pit is infinitely heavy and must win,
+// as a collider must (guard_colliders). Only the position is corrected, and only as far as the
+// bound: the next step's contact takes the rest, with its restitution.
 Vec3 kept_in_pit(const PitPlaneList& planes, Vec3 x, float radius) {
   for (int k = 0; k < planes.count; ++k) {
     if (!planes.pit.plane_applies(k, x)) continue;
