@@ -44,19 +44,18 @@ enum class NarrowphaseMode : std::uint8_t { Grid, Naive };
 
 struct SolverSettings {
   // Substeps per step. Each substep integrates, warm-starts, solves, moves and relaxes
-  // (systems/solver.h). More substeps cost linearly and converge deep piles better. Six with a
-  // push-out rate of 0.4 meet every bound of the study at 0.84x the cost of eight at 0.2 (the
-  // default until then); the faster push holds the 50-ball stack that six alone let sink.
-  int substeps = 6;
+  // (systems/solver.h). More substeps cost linearly and converge deep piles better. Four with a
+  // push-out rate of 0.8 meet every bound of the study at 0.79x the cost of six at 0.4 (the
+  // default until then) for 0.96x its error (profiling/reports/speed_error.md): the faster push
+  // buys back what the two substeps lose.
+  int substeps = 4;
   // Fraction of an overlap pushed out per substep, through split-impulse pseudo-velocity
   // (unitless, 0..1). Pseudo-velocity is forgotten after each move, so a fast rate costs no
-  // energy; above about 0.5 pushes along a chain of overlaps start to overshoot. Since the pit
-  // guard (systems/solver.cpp) no crowd squeezes a ball out at 0.8, and the sweep's rule picks
-  // 0.8: the same cost, and a 50-ball stack that drifts 0.003 r where 0.4 drifts 0.07 r
-  // (profiling/reports/speed_error.md). Not moved yet: at 0.8 the substep controller's closed
-  // loop lets one step reach 1.51 P (tests/test_substep_control.cpp allows 1.5), and the move
-  // changes every pour, so every report must be re-run with it.
-  float push_out_rate = 0.4f;
+  // energy. A fast rate once let a crowd squeeze a ball out of the pit and fling piled balls off
+  // the floor; the pit guard and the plane-impact rule (systems/solver.cpp,
+  // systems/contact_kernel.h) ended both. At 0.8 a 50-ball stack drifts 0.003 r where 0.4
+  // drifts 0.07 r.
+  float push_out_rate = 0.8f;
   // Cap on the speed at which overlapping spheres are pushed apart. Deep overlaps (spawned
   // inside each other) separate over several steps instead of jumping apart (unit: m/s).
   // Push-out is pseudo-velocity, so the cap bounds how fast overlap is removed, not how fast

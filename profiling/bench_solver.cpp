@@ -11,7 +11,7 @@
 namespace ballpit::profiling {
 namespace {
 
-// One step of the solver with `substeps` substeps (0: the world's own, the default's six).
+// One step of the solver with `substeps` substeps (0: the world's own, the default's four).
 auto solver_step(int substeps) {
   return [substeps](benchmark::State& state, World& world, std::size_t n) {
     if (substeps > 0) world.solver.substeps = substeps;

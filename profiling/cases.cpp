@@ -195,13 +195,20 @@ std::vector<SolverPoint> sweep_points() {
     if (f != d.push_out_rate) point("push_rate=" + format_value(f), [f](SolverPoint& p) { p.push_out_rate = f; });
   // Substeps and push-out rate trade against each other (a faster push buys back part of what
   // fewer substeps lose), so both move at once too: fewer with a faster push, more with a
-  // slower one. substeps=8,push_rate=0.2 was the default before this sweep moved it.
+  // slower one, where that is not already a point above; and the defaults before this one
+  // (8 at 0.2, then 6 at 0.4), which the study moved from.
   for (int sub : {4, 8})
     for (float f : {0.2f, 0.8f})
-      point(substeps_push_label(sub, f), [sub, f](SolverPoint& p) {
-        p.substeps = sub;
-        p.push_out_rate = f;
-      });
+      if (sub != d.substeps && f != d.push_out_rate)
+        point(substeps_push_label(sub, f), [sub, f](SolverPoint& p) {
+          p.substeps = sub;
+          p.push_out_rate = f;
+        });
+  if (d.substeps != 6 && d.push_out_rate != 0.4f)
+    point(substeps_push_label(6, 0.4f), [](SolverPoint& p) {
+      p.substeps = 6;
+      p.push_out_rate = 0.4f;
+    });
   for (float v : {0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f})
     if (v != d.push_out_speed) point("push_out=" + format_value(v), [v](SolverPoint& p) { p.push_out_speed = v; });
   // Step size: alone (fewer or more substeps per second), and with the substep rate kept.
@@ -230,7 +237,7 @@ std::vector<SolverPoint> big_pour_points() {
   for (const SolverPoint& p : sweep_points())
     // And the default before this one, which the big pour measures the move against.
     if (p.label == "default" || p.label == substeps_label(d.substeps / 2) || p.label == substeps_label(2 * d.substeps) ||
-        p.label == tolerance_label(kTolerancePoints[0]) || p.label == substeps_push_label(8, 0.2f))
+        p.label == tolerance_label(kTolerancePoints[0]) || p.label == substeps_push_label(6, 0.4f))
       out.push_back(p);
   return out;
 }

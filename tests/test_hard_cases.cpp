@@ -53,8 +53,9 @@ TEST(HardCases, ADroppedBallBouncesToESquaredOfItsHeight) {
   // from the first state after the bounce as y + vy^2 / 2g (free flight is a parabola; sampling
   // the top at 60 Hz would itself be up to g dt^2 / 8 low, 2% of a 1.6 cm bounce). Free flight
   // is integrated exactly and impacts are resolved at their time within the substep, so what
-  // is left is O(g h^2) in the contact substep: 0.5% at the default 6 substeps (0.3% at 8),
-  // three bounces deep (profiling/reports/speed_error.md, bounce). 1% is the bound.
+  // is left is O(g h^2) in the contact substep: 0.65% at the default 4 substeps (0.5% at 6,
+  // 0.3% at 8), three bounces deep (profiling/reports/speed_error.md, bounce). 1% is the
+  // issue's bound.
   const float g = 9.81f;
   for (float e : {0.5f, 0.8f}) {
     test::Sim s;

@@ -176,7 +176,7 @@ TEST(ContactPenetration, MatchesTheIndependentMetricsInAPour) {
 // even the 32 substeps allowed cannot hold a tight P); after them at most 1 step in
 // kStepsPerOver may go over P (a lowering probe that failed, or a sudden impact), by at most
 // kOvershoot x P, and the controller raises the substeps right after. (With the solver of
-// this writing no step after the allowance goes over at either P below.)
+// this writing, one step of the 210 checked goes over P = 0.01, to 1.2 P; none over 0.03.)
 constexpr int kAllowance = 30;
 constexpr int kStepsPerOver = 50;
 constexpr double kOvershoot = 1.5;
