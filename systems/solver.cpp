@@ -87,22 +87,6 @@ void load_bodies(const SphereTable& spheres, SolverBodies& bodies) {
 // no longer one of those.
 constexpr float kPitGuardDepth = 1.0f;
 
-// The pit's planes looked up once for the guard: through Pit's accessors, which the compiler
-// does not inline, the guard cost more than the copy it rides on (1.06 ms a step at 100k
-// spheres against load_bodies' 0.27).
-struct PitPlaneList {
-  explicit PitPlaneList(const Pit& of) : pit(of), count(of.plane_count()) {
-    for (int k = 0; k < count; ++k) {
-      normal[k] = of.plane_normal(k);
-      offset[k] = of.plane_offset(k);
-    }
-  }
-  const Pit& pit;
-  int count;
-  Vec3 normal[Pit::kMaxPlanes];
-  float offset[Pit::kMaxPlanes];
-};
-
 // Pit guard, once after the last substep, as store_bodies writes the positions back: a sphere
 // deeper than kPitGuardDepth in a pit plane is moved back to that depth, its centre onto the
 // plane. The narrowphase finds a sphere's plane contacts within a margin for its speed, but
@@ -111,18 +95,17 @@ struct PitPlaneList {
 // (1,000 balls in a tenth of their room, 8 substeps). The pit is infinitely heavy and must win,
 // as a collider must (guard_colliders). Only the position is corrected, and only as far as the
 // bound: the next step's contact takes the rest, with its restitution.
-Vec3 kept_in_pit(const PitPlaneList& planes, Vec3 x, float radius) {
-  for (int k = 0; k < planes.count; ++k) {
-    if (!planes.pit.plane_applies(k, x)) continue;
-    const Vec3& n = planes.normal[k];
-    const float excess = n.dot(x) - planes.offset[k] - radius + kPitGuardDepth * radius;  // < 0: too deep
+Vec3 kept_in_pit(const Pit& pit, Vec3 x, float radius) {
+  for (int k = 0; k < pit.plane_count(); ++k) {
+    if (!pit.plane_applies(k, x)) continue;
+    const Vec3 n = pit.plane_normal(k);
+    const float excess = n.dot(x) - pit.plane_offset(k) - radius + kPitGuardDepth * radius;  // < 0: too deep
     if (excess < 0.0f) x -= excess * n;
   }
   return x;
 }
 
 void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spheres) {
-  const PitPlaneList planes(pit);
   auto x = spheres.mut_position();
   auto v = spheres.mut_velocity();
   auto r = spheres.radius();
@@ -132,7 +115,7 @@ void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spher
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < rows; ++i) {
     const Quad &p = bodies.body[i].position, &u = bodies.body[i].velocity;
-    x[i] = kept_in_pit(planes, Vec3(p.x, p.y, p.z), p.w);
+    x[i] = kept_in_pit(pit, Vec3(p.x, p.y, p.z), p.w);
     v[i] = Vec3(u.x, u.y, u.z);
     if (angular) {
       const Quad& s = bodies.body[i].spin;
