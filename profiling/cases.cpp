@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 #include <span>
+#include <utility>
 
 #include "engine/fixed_step_loop.h"
 #include "engine/metrics.h"
@@ -178,6 +179,12 @@ std::string substeps_push_label(int substeps, float push_out_rate) {
   return substeps_label(substeps) + ",push_rate=" + format_value(push_out_rate);
 }
 
+// The default before the study's last move (substeps, push-out rate): a point of the sweep and
+// of the big pour, which measures the move against it.
+constexpr std::pair<int, float> kPreviousDefault{6, 0.4f};
+
+std::string previous_default_label() { return substeps_push_label(kPreviousDefault.first, kPreviousDefault.second); }
+
 }  // namespace
 
 std::vector<SolverPoint> sweep_points() {
@@ -204,10 +211,12 @@ std::vector<SolverPoint> sweep_points() {
           p.substeps = sub;
           p.push_out_rate = f;
         });
-  if (d.substeps != 6 && d.push_out_rate != 0.4f)
-    point(substeps_push_label(6, 0.4f), [](SolverPoint& p) {
-      p.substeps = 6;
-      p.push_out_rate = 0.4f;
+  const int old_substeps = kPreviousDefault.first;
+  const float old_rate = kPreviousDefault.second;
+  if (d.substeps != old_substeps && d.push_out_rate != old_rate)
+    point(previous_default_label(), [&](SolverPoint& p) {
+      p.substeps = old_substeps;
+      p.push_out_rate = old_rate;
     });
   for (float v : {0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f})
     if (v != d.push_out_speed) point("push_out=" + format_value(v), [v](SolverPoint& p) { p.push_out_speed = v; });
@@ -237,7 +246,7 @@ std::vector<SolverPoint> big_pour_points() {
   for (const SolverPoint& p : sweep_points())
     // And the default before this one, which the big pour measures the move against.
     if (p.label == "default" || p.label == substeps_label(d.substeps / 2) || p.label == substeps_label(2 * d.substeps) ||
-        p.label == tolerance_label(kTolerancePoints[0]) || p.label == substeps_push_label(6, 0.4f))
+        p.label == tolerance_label(kTolerancePoints[0]) || p.label == previous_default_label())
       out.push_back(p);
   return out;
 }
