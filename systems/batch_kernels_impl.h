@@ -42,6 +42,8 @@ inline V3<Lanes> xyz(const LaneQuads& q) { return {q.x, q.y, q.z}; }
 // Where each quad of a body record lies in it.
 inline constexpr std::size_t kVelocity = offsetof(SolverBody, velocity), kSpin = offsetof(SolverBody, spin),
                              kPosition = offsetof(SolverBody, position), kPseudo = offsetof(SolverBody, pseudo);
+// Velocity and spin lie side by side, 32-byte aligned: they move together (gather_quad_pair).
+static_assert(kSpin == kVelocity + sizeof(Quad) && kVelocity % 32 == 0);
 
 // The records of the lanes' spheres. Taken once per slice: read through the batch's row columns
 // at every quad, the compiler had to assume a store to a body may have changed a row.
@@ -91,11 +93,14 @@ void run_slice(const LaneSlice& s, SolverBodies& bodies, const BatchPassArgs& ar
   LaneState c;
   const LaneRecords ra = records(bodies, s.a());
   const LaneRecords rb = pairs ? records(bodies, s.b()) : LaneRecords{};
-  const LaneQuads va = gather_quads(ra, kVelocity);
-  LaneQuads vb{}, sa{}, sb{}, pa{}, pb{};
-  if constexpr (pairs) vb = gather_quads(rb, kVelocity);
-  if constexpr (spin_quads) sa = gather_quads(ra, kSpin);
-  if constexpr (spin_quads && pairs) sb = gather_quads(rb, kSpin);
+  LaneQuads va, vb{}, sa{}, sb{}, pa{}, pb{};
+  if constexpr (spin_quads) {
+    gather_quad_pair(ra, kVelocity, va, sa);
+    if constexpr (pairs) gather_quad_pair(rb, kVelocity, vb, sb);
+  } else {
+    va = gather_quads(ra, kVelocity);
+    if constexpr (pairs) vb = gather_quads(rb, kVelocity);
+  }
   Lanes approach_accel{};
   if constexpr (pairs) {
     if (pass == Pass::Relax || !args.frames_current) {
@@ -150,10 +155,14 @@ void run_slice(const LaneSlice& s, SolverBodies& bodies, const BatchPassArgs& ar
   // wrote them (the same values) took each other's cache lines, which made 2 threads slower
   // than 1 at 10k spheres.
   const std::uint32_t used = s.bits(batch.used);
-  scatter_quads(ra, kVelocity, used, {c.va.x, c.va.y, c.va.z, c.ma});
-  if constexpr (pairs) scatter_quads(rb, kVelocity, used, {c.vb.x, c.vb.y, c.vb.z, c.mb});
-  if constexpr (spin_quads) scatter_quads(ra, kSpin, used, {c.sa.x, c.sa.y, c.sa.z, c.pushed_a});
-  if constexpr (spin_quads && pairs) scatter_quads(rb, kSpin, used, {c.sb.x, c.sb.y, c.sb.z, c.pushed_b});
+  if constexpr (spin_quads) {
+    scatter_quad_pair(ra, kVelocity, used, {c.va.x, c.va.y, c.va.z, c.ma}, {c.sa.x, c.sa.y, c.sa.z, c.pushed_a});
+    if constexpr (pairs)
+      scatter_quad_pair(rb, kVelocity, used, {c.vb.x, c.vb.y, c.vb.z, c.mb}, {c.sb.x, c.sb.y, c.sb.z, c.pushed_b});
+  } else {
+    scatter_quads(ra, kVelocity, used, {c.va.x, c.va.y, c.va.z, c.ma});
+    if constexpr (pairs) scatter_quads(rb, kVelocity, used, {c.vb.x, c.vb.y, c.vb.z, c.mb});
+  }
   if constexpr (pass == Pass::Solve) {
     scatter_quads(ra, kPseudo, used, {c.pa.x, c.pa.y, c.pa.z, pa.w});
     if constexpr (pairs) {

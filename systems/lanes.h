@@ -113,26 +113,80 @@ inline __m512 four_quads(const LaneRecords& rec, std::size_t offset, int k) {
   return _mm512_insertf32x4(r, _mm_load_ps(quad_at(rec, k + 12, offset)), 3);
 }
 
-inline LaneQuads gather_quads(const LaneRecords& rec, std::size_t offset) {
-  const __m512 r0 = four_quads(rec, offset, 0), r1 = four_quads(rec, offset, 1);
-  const __m512 r2 = four_quads(rec, offset, 2), r3 = four_quads(rec, offset, 3);
-  const __m512 t0 = _mm512_unpacklo_ps(r0, r1), t1 = _mm512_unpackhi_ps(r0, r1);
-  const __m512 t2 = _mm512_unpacklo_ps(r2, r3), t3 = _mm512_unpackhi_ps(r2, r3);
+// Registers r[k] holding quads k, k+4, k+8, k+12 (one per 128-bit lane) as four lane vectors:
+// a 4x4 transpose inside each 128-bit lane.
+inline LaneQuads lanes_of_quads(const __m512 (&r)[4]) {
+  const __m512 t0 = _mm512_unpacklo_ps(r[0], r[1]), t1 = _mm512_unpackhi_ps(r[0], r[1]);
+  const __m512 t2 = _mm512_unpacklo_ps(r[2], r[3]), t3 = _mm512_unpackhi_ps(r[2], r[3]);
   return {lanes(_mm512_shuffle_ps(t0, t2, 0x44)), lanes(_mm512_shuffle_ps(t0, t2, 0xEE)),
           lanes(_mm512_shuffle_ps(t1, t3, 0x44)), lanes(_mm512_shuffle_ps(t1, t3, 0xEE))};
 }
 
-// Lane k writes its quad only where bit k of `write_mask` is set.
-inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& q) {
+// And back: r[k] gets the quads of lanes k, k+4, k+8, k+12.
+inline void quads_of_lanes(const LaneQuads& q, __m512 (&r)[4]) {
   const __m512 t0 = _mm512_unpacklo_ps(raw(q.x), raw(q.y)), t1 = _mm512_unpackhi_ps(raw(q.x), raw(q.y));
   const __m512 t2 = _mm512_unpacklo_ps(raw(q.z), raw(q.w)), t3 = _mm512_unpackhi_ps(raw(q.z), raw(q.w));
-  const __m512 r[4] = {_mm512_shuffle_ps(t0, t2, 0x44), _mm512_shuffle_ps(t0, t2, 0xEE),
-                       _mm512_shuffle_ps(t1, t3, 0x44), _mm512_shuffle_ps(t1, t3, 0xEE)};
+  r[0] = _mm512_shuffle_ps(t0, t2, 0x44);
+  r[1] = _mm512_shuffle_ps(t0, t2, 0xEE);
+  r[2] = _mm512_shuffle_ps(t1, t3, 0x44);
+  r[3] = _mm512_shuffle_ps(t1, t3, 0xEE);
+}
+
+inline LaneQuads gather_quads(const LaneRecords& rec, std::size_t offset) {
+  const __m512 r[4] = {four_quads(rec, offset, 0), four_quads(rec, offset, 1), four_quads(rec, offset, 2),
+                       four_quads(rec, offset, 3)};
+  return lanes_of_quads(r);
+}
+
+// Lane k writes its quad only where bit k of `write_mask` is set.
+inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& q) {
+  __m512 r[4];
+  quads_of_lanes(q, r);
   for (int k = 0; k < 4; ++k) {
     if (write_mask >> k & 1u) _mm_store_ps(quad_at(rec, k, offset), _mm512_castps512_ps128(r[k]));
     if (write_mask >> (k + 4) & 1u) _mm_store_ps(quad_at(rec, k + 4, offset), _mm512_extractf32x4_ps(r[k], 1));
     if (write_mask >> (k + 8) & 1u) _mm_store_ps(quad_at(rec, k + 8, offset), _mm512_extractf32x4_ps(r[k], 2));
     if (write_mask >> (k + 12) & 1u) _mm_store_ps(quad_at(rec, k + 12, offset), _mm512_extractf32x4_ps(r[k], 3));
+  }
+}
+
+// Two quads side by side in a record (`offset` 32-byte aligned) move as one 256-bit oct: half
+// the loads and stores of two gather_quads or scatter_quads, and fewer shuffles, which all
+// compete for one port.
+inline __m256 oct_at(const LaneRecords& rec, int k, std::size_t offset) { return _mm256_load_ps(quad_at(rec, k, offset)); }
+inline __m512 two_octs(__m256 low, __m256 high) {
+  return _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(low)), _mm256_castps_pd(high), 1));
+}
+
+inline void gather_quad_pair(const LaneRecords& rec, std::size_t offset, LaneQuads& first, LaneQuads& second) {
+  __m512 f[4], s[4];
+  for (int k = 0; k < 4; ++k) {
+    // 128-bit lanes [first k, second k, first k+4, second k+4], and the same of k+8 and k+12.
+    const __m512 ab = two_octs(oct_at(rec, k, offset), oct_at(rec, k + 4, offset));
+    const __m512 cd = two_octs(oct_at(rec, k + 8, offset), oct_at(rec, k + 12, offset));
+    f[k] = _mm512_shuffle_f32x4(ab, cd, _MM_SHUFFLE(2, 0, 2, 0));  // as four_quads(rec, offset, k)
+    s[k] = _mm512_shuffle_f32x4(ab, cd, _MM_SHUFFLE(3, 1, 3, 1));
+  }
+  first = lanes_of_quads(f);
+  second = lanes_of_quads(s);
+}
+
+inline void scatter_quad_pair(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& first,
+                              const LaneQuads& second) {
+  __m512 f[4], s[4];
+  quads_of_lanes(first, f);
+  quads_of_lanes(second, s);
+  // 128-bit lanes [f0, s0, f1, s1] and [f2, s2, f3, s3]: the octs of lanes k, k+4 and of k+8, k+12.
+  const __m512i near = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 4, 5, 6, 7, 20, 21, 22, 23);
+  const __m512i far = _mm512_setr_epi32(8, 9, 10, 11, 24, 25, 26, 27, 12, 13, 14, 15, 28, 29, 30, 31);
+  auto low = [](__m512 v) { return _mm512_castps512_ps256(v); };
+  auto high = [](__m512 v) { return _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)); };
+  for (int k = 0; k < 4; ++k) {
+    const __m512 ab = _mm512_permutex2var_ps(f[k], near, s[k]), cd = _mm512_permutex2var_ps(f[k], far, s[k]);
+    if (write_mask >> k & 1u) _mm256_store_ps(quad_at(rec, k, offset), low(ab));
+    if (write_mask >> (k + 4) & 1u) _mm256_store_ps(quad_at(rec, k + 4, offset), high(ab));
+    if (write_mask >> (k + 8) & 1u) _mm256_store_ps(quad_at(rec, k + 8, offset), low(cd));
+    if (write_mask >> (k + 12) & 1u) _mm256_store_ps(quad_at(rec, k + 12, offset), high(cd));
   }
 }
 
@@ -215,6 +269,19 @@ inline void scatter_quads(const LaneRecords& rec, std::size_t offset, std::uint3
   }
 }
 
+#endif
+
+#if !defined(__AVX512F__)
+// Two quads side by side in a record, as two gathers (only AVX-512 gains by moving them as one).
+inline void gather_quad_pair(const LaneRecords& rec, std::size_t offset, LaneQuads& first, LaneQuads& second) {
+  first = gather_quads(rec, offset);
+  second = gather_quads(rec, offset + sizeof(Quad));
+}
+inline void scatter_quad_pair(const LaneRecords& rec, std::size_t offset, std::uint32_t write_mask, const LaneQuads& first,
+                              const LaneQuads& second) {
+  scatter_quads(rec, offset, write_mask, first);
+  scatter_quads(rec, offset + sizeof(Quad), write_mask, second);
+}
 #endif
 
 inline bool any(LaneMask m) { return bits_of_mask(m) != 0; }
