@@ -114,14 +114,23 @@ void pad_empty_lanes(BatchList& out, std::uint32_t pad_rows) {
 
 }  // namespace
 
-// Calls visit(list, index) for the contacts of all lists, one from each list in turn.
+// How many contacts ahead of the one being packed each list is fetched into the cache.
+constexpr std::uint32_t kPrefetchContacts = 8;
+
+// Calls visit(list, index) for the contacts of all lists, one from each list in turn. Up to
+// eight lists are read side by side, more streams than the hardware's prefetch kept up with:
+// reading a contact was the slowest load of the packing.
 template <class Visit>
 void in_turn(ContactLists lists, Visit&& visit) {
   std::size_t longest = 0;
   for (const std::vector<Contact>* list : lists) longest = std::max(longest, list->size());
   for (std::uint32_t i = 0; i < longest; ++i)
-    for (std::size_t l = 0; l < lists.size(); ++l)
-      if (i < lists[l]->size()) visit(l, i);
+    for (std::size_t l = 0; l < lists.size(); ++l) {
+      const std::vector<Contact>& list = *lists[l];
+      if (i >= list.size()) continue;
+      if (i + kPrefetchContacts < list.size()) __builtin_prefetch(list.data() + i + kPrefetchContacts);
+      visit(l, i);
+    }
 }
 
 void pack_pairs(ContactLists lists, const PackInput& in, BatchList& out) {
