@@ -55,6 +55,11 @@ struct ContactSet {
   std::vector<std::uint32_t> warm_begin;
   std::vector<WarmStartEntry> warm;
 
+  // Rows with a sphere-sphere contact that carried load at the end of the last step
+  // (Contact::loaded_last_step), 1 by row: spheres resting in a pile. The narrowphase marks them
+  // as it makes the contacts; the solver treats their impacts differently (systems/solver.cpp).
+  std::vector<std::uint8_t> piled;
+
   // Rows of sleeping spheres the solver struck hard enough to wake (1), by row this step.
   std::vector<std::uint8_t> wake_requests;
 

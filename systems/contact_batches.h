@@ -47,7 +47,7 @@ inline std::uint32_t source_of(std::size_t list, std::uint32_t index) {
 }
 
 // What packing needs besides the contacts: `radius` per row (m); `in_pile` marks the rows resting
-// on another sphere (systems/solver.cpp); `pad_rows` is the first padding body. `last_batch` is
+// on another sphere (ContactSet::piled); `pad_rows` is the first padding body. `last_batch` is
 // scratch with one entry per row, zeroed once per step and shared by every packing in it, each
 // with a `stamp` above every value the packings before it wrote (kStampStride apart: room for
 // that many batches), so no packing has to clear what the last one left.

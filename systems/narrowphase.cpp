@@ -7,6 +7,7 @@
 #include "systems/narrowphase.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 
@@ -119,6 +120,15 @@ struct SlabSearch {
   std::size_t material_count;
   const ContactSet& previous;                  // warm-start cache of the last step
   std::span<const std::uint32_t> new_to_old;
+  std::uint8_t* piled;                         // ContactSet::piled of this step
+
+  // A pair that carried load marks both its rows as piled. The partner may lie in the next slab,
+  // whose rows another thread marks too, so the mark is an atomic store (on x86 a plain one).
+  void mark_piled(const Contact& c) const {
+    if (!c.loaded_last_step) return;
+    std::atomic_ref<std::uint8_t>(piled[c.a]).store(1, std::memory_order_relaxed);
+    std::atomic_ref<std::uint8_t>(piled[c.b]).store(1, std::memory_order_relaxed);
+  }
 
   // Is row j in the slab or the next one? Rows are sorted by cell key and a slab is a key range,
   // so it is a row range: two lookups instead of a division of j's key per pair.
@@ -182,6 +192,7 @@ struct SlabSearch {
   void add_pair(std::uint32_t i, std::uint32_t j, int slab, SlabContacts& out) const {
     auto& list = local(j, slab) ? out.pairs : out.serial;
     list.push_back(pair(generator(i), j));
+    mark_piled(list.back());
   }
 
   bool fast(std::uint32_t i) const { return scratch.flags[i] & kFastRow; }
@@ -279,6 +290,7 @@ struct SlabSearch {
       const std::size_t ahead = std::min(out.pairs.size() + kPrefetchContacts, out.pairs.capacity());
       __builtin_prefetch(out.pairs.data() + ahead, 1);
       out.pairs.push_back(pair(g, *passed));
+      mark_piled(out.pairs.back());
     }
   }
 
@@ -448,6 +460,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   // Last step's cache stays valid while this step's lists are rebuilt: the solver writes a
   // fresh cache at its end.
   if (contacts.slabs.size() != static_cast<std::size_t>(slabs)) contacts.slabs.resize(slabs);
+  contacts.piled.assign(n, 0);
   SlabSearch search{grid,
                     x,
                     r,
@@ -457,7 +470,8 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     pair_material,
                     mc,
                     contacts,
-                    grid.new_to_old};
+                    grid.new_to_old,
+                    contacts.piled.data()};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
 
   // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each

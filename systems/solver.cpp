@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
+#include "engine/error.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/batch_kernels.h"
@@ -245,26 +247,6 @@ struct Step {
   }
 };
 
-// Marks the rows with a sphere-sphere contact that carried load at the end of the last step:
-// spheres resting in a pile. Their impacts with each other get no exact-bounce position
-// correction (impact_shift): moving a piled sphere by a correction its neighbours do not share
-// makes overlaps, whose push-out and impacts pumped energy into piles (pour 4k at 3 substeps:
-// 0.66 J left after 10 s with the correction, 0.0004 J without). Nor does a pit plane strike
-// them (systems/contact_kernel.h): their approach to it is the pile's load. Parity sweeps as the
-// solver's, so no two threads write one row.
-void mark_piled_rows(std::vector<SlabContacts>& slabs, std::vector<std::uint8_t>& in_pile) {
-  auto mark = [&](const std::vector<Contact>& contacts) {
-    for (const Contact& c : contacts)
-      if (c.loaded_last_step) in_pile[c.a] = in_pile[c.b] = 1;
-  };
-  const int count = static_cast<int>(slabs.size());
-  for (int parity = 0; parity < 2; ++parity) {
-#pragma omp parallel for schedule(static)
-    for (int s = parity; s < count; s += 2) mark(slabs[s].pairs);
-  }
-  for (const SlabContacts& s : slabs) mark(s.serial);
-}
-
 // How many groups a parity's `own` slabs are cut into: four a thread, at most eight slabs and at
 // least two to a group, and a multiple of the team where that allows.
 int group_count(int own, int threads, int slabs_per_group) {
@@ -323,7 +305,17 @@ void group_slabs(World& world, SolverScratch& scratch) {
 void pack_all(World& world, SolverScratch& scratch) {
   group_slabs(world, scratch);
   scratch.last_batch.assign(scratch.bodies.rows + SolverBodies::kPadRows, 0);
-  PackInput in{world.spheres.radius(), scratch.in_pile, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
+  // Spheres resting in a pile (ContactSet::piled, marked by the narrowphase) get no exact-bounce
+  // position correction (impact_shift) in their impacts with each other: moving a piled sphere by
+  // a correction its neighbours do not share makes overlaps, whose push-out and impacts pumped
+  // energy into piles (pour 4k at 3 substeps: 0.66 J left after 10 s with the correction, 0.0004 J
+  // without). Nor does a pit plane strike them (systems/contact_kernel.h): their approach to it is
+  // the pile's load.
+  const std::vector<std::uint8_t>& piled = world.contacts.piled;
+  if (piled.size() != scratch.bodies.rows)
+    throw Error("solver: the contacts mark piled spheres for " + std::to_string(piled.size()) +
+                " rows, the world has " + std::to_string(scratch.bodies.rows) + " (the narrowphase must run first)");
+  PackInput in{world.spheres.radius(), piled, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
                scratch.last_batch};
   for (int parity = 0; parity < 2; ++parity) {
     std::vector<SlabGroup>& groups = scratch.groups[parity];
@@ -461,8 +453,6 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   const float h = world.step() / static_cast<float>(substeps);
   const std::size_t rows = spheres.size();
 
-  scratch.in_pile.assign(rows, 0);
-  mark_piled_rows(world.contacts.slabs, scratch.in_pile);
   load_bodies(spheres, scratch.bodies);
   pack_all(world, scratch);
   const bool sleepers = std::any_of(spheres.asleep().begin(), spheres.asleep().end(), [](std::uint8_t s) { return s != 0; });

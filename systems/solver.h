@@ -67,7 +67,6 @@ struct SolverScratch {
   std::vector<std::size_t> contacts_before[2], batches_before[2];
   BatchList serial;                  // the pairs that span slabs
   std::vector<Contact> serial_pairs;
-  std::vector<std::uint8_t> in_pile;
   std::vector<std::uint32_t> last_batch;
 };
 
