@@ -2,7 +2,7 @@
 // from its neighbour cells, pit planes, joint colliders) into per-slab contact lists, and picks
 // up last step's impulses for pairs that persist (warm starting).
 // Reads: sphere positions, velocities, radii, materials, sleep, rows; grid; colliders.
-// Writes: contacts.
+// Writes: contacts (the lists, and the rows resting in a pile: ContactSet::piled).
 // Decision: contacts are speculative. A pair is kept when its gap is below the sum of both
 // spheres' margins (distance each can travel this step), so the solver can stop a fast sphere
 // at the surface instead of finding it inside, or past, its partner next step.

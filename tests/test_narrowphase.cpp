@@ -2,6 +2,7 @@
 // the pairs the all-pairs reference finds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -97,6 +98,39 @@ TEST(Narrowphase, PlaneContactsOnlyNearTheFloorAndWalls) {
       EXPECT_EQ(w.spheres.entity_at(c.a), floor_ball);
     }
   EXPECT_EQ(statics, 1u);
+}
+
+// The solver treats the spheres of a pile differently (systems/solver.cpp); the narrowphase marks
+// them as it makes the contacts, from two threads at once, so the marks must be exactly the rows
+// of the pairs (spanning slabs or not) that carried load.
+TEST(Narrowphase, MarksExactlyTheRowsOfLoadedPairsAsPiled) {
+  test::Sim s;
+  test::make_pit(s.world, 0.5f, 0.0f, 0.5f);
+  // Enough rows for two threads (narrowphase.cpp gives each at least 1,024).
+  for (int i = 0; i < 2500; ++i)
+    test::add_ball(s.world, Vec3(-0.44f + 0.0629f * (i % 15), 0.04f + 0.0801f * (i / 225), -0.44f + 0.0629f * (i / 15 % 15)));
+  for (int i = 0; i < 10; ++i) test::add_ball(s.world, Vec3(-0.4f + 0.09f * i, 5.0f, 0.0f));  // still falling, alone
+  s.start(2);
+  s.step(40);  // a pile, some of it still settling: loaded and unloaded pairs both
+  const std::size_t rows = s.world.spheres.size();
+  std::vector<std::uint8_t> expected(rows, 0);
+  std::size_t loaded = 0, unloaded = 0;
+  for (const SlabContacts& sl : s.world.contacts.slabs)
+    for (const auto* list : {&sl.pairs, &sl.serial})
+      for (const Contact& c : *list) {
+        if (!c.loaded_last_step) {
+          ++unloaded;
+          continue;
+        }
+        ++loaded;
+        expected[c.a] = expected[c.b] = 1;
+      }
+  ASSERT_GT(loaded, 100u);
+  ASSERT_GT(unloaded, 0u);
+  ASSERT_EQ(s.world.contacts.piled.size(), rows);
+  EXPECT_EQ(s.world.contacts.piled, expected);
+  EXPECT_GT(std::count(expected.begin(), expected.end(), 1), 100);
+  EXPECT_LT(std::count(expected.begin(), expected.end(), 1), static_cast<std::ptrdiff_t>(rows));
 }
 
 TEST(Narrowphase, LastStepsImpulsesFollowTheirPairAcrossAReorder) {
