@@ -280,3 +280,18 @@ TEST(Solver, DefaultGroupsGiveEachThreadAnEqualShare) {
     }
   }
 }
+
+// The solver reads the pile marks the narrowphase makes with the contacts (ContactSet::piled);
+// called on a world whose contacts were never found, it says so instead of reading past them.
+TEST(Solver, RefusesAWorldWhoseContactsTheNarrowphaseDidNotFind) {
+  test::Sim s;
+  test::make_pit(s.world, 1.0f, 0.5f, 0.5f);
+  test::add_ball(s.world, Vec3(0, 0.04f, 0));
+  test::add_ball(s.world, Vec3(0, 0.12f, 0));
+  try {
+    solve_contacts(s.world);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("narrowphase must run first"), std::string::npos) << e.what();
+  }
+}
