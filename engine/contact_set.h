@@ -21,6 +21,9 @@ inline constexpr std::uint32_t kPlaneTag = 0x80000000u;
 inline constexpr std::uint32_t kColliderTag = 0x40000000u;
 inline constexpr std::uint32_t kTagMask = kPlaneTag | kColliderTag;
 
+// The impulses are those the step starts from (last step's, found in the warm-start cache). The
+// solver works on copies in its batches and leaves its results in the cache, not here (a joint
+// collider's contact, solved one at a time, holds them while the step runs).
 struct Contact {
   std::uint32_t a;             // sphere row that generated the contact
   std::uint32_t b;             // partner sphere row, or kPlaneTag|plane, or kColliderTag|row

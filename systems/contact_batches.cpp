@@ -32,7 +32,7 @@ class Window {
     ContactBatch& batch;
     int lane;
   };
-  Lane add(std::uint32_t a, std::uint32_t b, std::uint32_t source) {
+  Lane add(std::uint32_t a, std::uint32_t b) {
     const std::uint32_t after = std::max({last_[a], last_[b], stamp_ + static_cast<std::uint32_t>(first_free_)});
     std::size_t k = after - stamp_;
     while (k < lanes_.size() && lanes_[k] == kBatchLanes) ++k;
@@ -40,28 +40,26 @@ class Window {
       if (k - first_open_ == kOpenBatches) first_free_ = std::max(first_free_, ++first_open_);  // the oldest closes
       open_new();
     }
-    ContactBatch& batch = out_.batches[k];
+    ContactBatch& batch = out_[k];
     const int lane = lanes_[k]++;  // lanes fill in order
     batch.used |= 1u << lane;
     while (first_free_ < lanes_.size() && lanes_[first_free_] == kBatchLanes) ++first_free_;
-    out_.source[k * kBatchLanes + lane] = source;
     last_[a] = last_[b] = stamp_ + static_cast<std::uint32_t>(k + 1);
     return {batch, lane};
   }
 
  private:
   void open_new() {
-    ContactBatch& batch = out_.batches.emplace_back();
+    ContactBatch& batch = out_.emplace_back();
     batch.used = batch.loaded_last_step = batch.free_pair = 0;
-    out_.source.resize(out_.source.size() + kBatchLanes, kNoSource);
     lanes_.push_back(0);
     // The list keeps its memory from step to step, so a new batch's lines are last step's, long
     // gone from the near caches, and its first store waited on them: ask for a batch a few
     // ahead, never past the capacity (that memory is not the list's).
-    const std::size_t ahead = out_.batches.size() + kPrefetchBatches;
-    if (ahead < out_.batches.capacity())
+    const std::size_t ahead = out_.size() + kPrefetchBatches;
+    if (ahead < out_.capacity())
       for (std::size_t line = 0; line < sizeof(ContactBatch); line += 64)
-        __builtin_prefetch(reinterpret_cast<const char*>(out_.batches.data() + ahead) + line, 1);
+        __builtin_prefetch(reinterpret_cast<const char*>(out_.data() + ahead) + line, 1);
   }
 
   BatchList& out_;
@@ -90,17 +88,16 @@ void fill(ContactBatch& batch, int lane, const Contact& c, float reach) {
 }
 
 void start(ContactLists lists, BatchList& out) {
-  out.batches.clear();
-  out.source.clear();
+  out.clear();
   std::size_t contacts = 0;
   for (const std::vector<Contact>* list : lists) contacts += list->size();
   // Room for 90% full batches without growing: growing copies every batch made so far.
-  out.batches.reserve(contacts * 10 / (9 * kBatchLanes) + kOpenBatches);
+  out.reserve(contacts * 10 / (9 * kBatchLanes) + kOpenBatches);
 }
 
 // The lanes no contact took: immobile padding bodies with a finite frame and nothing to apply.
 void pad_empty_lanes(BatchList& out, std::uint32_t pad_rows) {
-  for (ContactBatch& batch : out.batches)
+  for (ContactBatch& batch : out)
     for (int lane = std::countr_one(batch.used); lane < kBatchLanes; ++lane) {
       batch.a[lane] = SolverBodies::pad_a(pad_rows, lane);
       batch.b[lane] = SolverBodies::pad_b(pad_rows, lane);
@@ -138,7 +135,7 @@ void pack_pairs(ContactLists lists, const PackInput& in, BatchList& out) {
   Window window(out, in);
   in_turn(lists, [&](std::size_t l, std::uint32_t i) {
     const Contact& c = (*lists[l])[i];
-    const Window::Lane slot = window.add(c.a, c.b, source_of(l, i));
+    const Window::Lane slot = window.add(c.a, c.b);
     fill(slot.batch, slot.lane, c, -kWarmStartReach * std::min(in.radius[c.a], in.radius[c.b]));
     if (!in.in_pile[c.a] && !in.in_pile[c.b]) slot.batch.free_pair |= 1u << slot.lane;
   });
@@ -151,7 +148,7 @@ void pack_planes(ContactLists lists, const PackInput& in, BatchList& out) {
   in_turn(lists, [&](std::size_t l, std::uint32_t i) {
     const Contact& c = (*lists[l])[i];
     if (!(c.b & kPlaneTag)) return;
-    const Window::Lane slot = window.add(c.a, c.a, source_of(l, i));
+    const Window::Lane slot = window.add(c.a, c.a);
     // A static partner's radius would only set the warm-start reach, which is then measured in
     // the sphere's own radius.
     fill(slot.batch, slot.lane, c, -kWarmStartReach * in.radius[c.a]);
@@ -164,21 +161,6 @@ void pack_planes(ContactLists lists, const PackInput& in, BatchList& out) {
     if (!in.in_pile[c.a]) slot.batch.free_pair |= 1u << slot.lane;  // else the plane gives it no impact
   });
   pad_empty_lanes(out, in.pad_rows);
-}
-
-void unpack_impulses(const BatchList& batches, ContactLists lists) {
-  constexpr std::uint32_t kIndexMask = (1u << kSourceIndexBits) - 1u;
-  for (std::size_t k = 0; k < batches.batches.size(); ++k) {
-    const ContactBatch& batch = batches.batches[k];
-    for (int lane = 0; lane < kBatchLanes; ++lane) {
-      const std::uint32_t source = batches.source[k * kBatchLanes + lane];
-      if (source == kNoSource) continue;
-      Contact& c = (*lists[source >> kSourceIndexBits])[source & kIndexMask];
-      c.normal_impulse = batch.normal_impulse[lane];
-      c.friction_impulse = Vec3(batch.fx[lane], batch.fy[lane], batch.fz[lane]);
-      c.impact_shift = batch.impact_shift[lane];
-    }
-  }
 }
 
 }  // namespace ballpit

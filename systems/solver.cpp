@@ -200,8 +200,8 @@ struct Step {
   }
 
   void run_batches(BatchKind kind, ContactPass pass, BatchList& list, BatchPassResult& result) {
-    ContactBatch* begin = list.batches.data();
-    kernels.get(kind, pass, spin)(begin, begin + list.batches.size(), scratch.bodies, args, result);
+    ContactBatch* begin = list.data();
+    kernels.get(kind, pass, spin)(begin, begin + list.size(), scratch.bodies, args, result);
   }
 
   template <ContactPass pass>
@@ -337,7 +337,7 @@ void pack_all(World& world, SolverScratch& scratch) {
     std::vector<std::size_t>& before = scratch.batches_before[parity];
     before.assign(groups.size() + 1, 0);
     for (std::size_t g = 0; g < groups.size(); ++g)
-      before[g + 1] = before[g] + groups[g].planes.batches.size() + groups[g].pair_batches.batches.size();
+      before[g + 1] = before[g] + groups[g].planes.size() + groups[g].pair_batches.size();
   }
   scratch.serial_pairs.clear();
   for (const SlabContacts& s : world.contacts.slabs)
@@ -345,25 +345,6 @@ void pack_all(World& world, SolverScratch& scratch) {
   std::vector<Contact>* serial = &scratch.serial_pairs;
   in.stamp += kStampStride;
   pack_pairs({&serial, 1}, in, scratch.serial);
-}
-
-void unpack_all(World& world, SolverScratch& scratch) {
-  for (int parity = 0; parity < 2; ++parity) {
-    std::vector<SlabGroup>& groups = scratch.groups[parity];
-#pragma omp parallel
-    {
-      const auto [first, last] = group_share(scratch.contacts_before[parity]);
-      for (int g = first; g < last; ++g) {
-        unpack_impulses(groups[g].planes, groups[g].statics);
-        unpack_impulses(groups[g].pair_batches, groups[g].pairs);
-      }
-    }
-  }
-  std::vector<Contact>* serial = &scratch.serial_pairs;
-  unpack_impulses(scratch.serial, {&serial, 1});
-  std::size_t next = 0;
-  for (SlabContacts& s : world.contacts.slabs)
-    for (Contact& c : s.serial) c = scratch.serial_pairs[next++];
 }
 
 // Joint-collider guard, once after the last substep, with the colliders where the step leaves
@@ -398,34 +379,46 @@ void guard_colliders(Step& step) {
 }
 
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
-// partner's entity (rows move in the next grid rebuild; entities do not).
-void store_warm_start(World& world) {
+// partner's entity (rows move in the next grid rebuild; entities do not). They are read where the
+// passes left them, in the batches (a joint collider's in its contact), not copied back into the
+// contact lists first: a settled 100k pile spent 17% of one substep's solve on the copy and the
+// two walks over the lists, and 13% reading the batches' six columns instead (bench_solver,
+// 1 thread, perf). Every row's entries are keyed by a distinct partner, so the order they are
+// stored in, batch order, changes no lookup.
+void store_warm_start(World& world, SolverScratch& scratch) {
   ContactSet& cs = world.contacts;
   const std::size_t n = world.spheres.size();
   auto entity = world.spheres.entity_index();
   cs.warm_begin.assign(n + 1, 0);
-  const int count = static_cast<int>(cs.slabs.size());
-  auto each = [](SlabContacts& s, auto&& f) {
-    for (Contact& c : s.pairs) f(c);
-    for (Contact& c : s.statics) f(c);
-    for (Contact& c : s.serial) f(c);
+  // f(a, b, normal impulse, friction impulse) for every contact of a group. A group's contacts
+  // belong to its own rows, so groups count and fill independently, each on the thread that
+  // solved it, whose cache still holds its batches.
+  auto each_in_group = [](const SlabGroup& group, auto&& f) {
+    for_each_contact(group.planes, f);
+    for_each_contact(group.pair_batches, f);
+    for (const std::vector<Contact>* statics : group.statics)
+      for (const Contact& c : *statics)
+        if (c.b & kColliderTag) f(c.a, c.b, c.normal_impulse, c.friction_impulse);
   };
-  // A slab's contacts all belong to its own rows, so slabs count and fill independently.
-#pragma omp parallel for schedule(static)
-  for (int s = 0; s < count; ++s)
-    each(cs.slabs[s], [&](Contact& c) {
-      if (c.normal_impulse > 0.0f) ++cs.warm_begin[c.a + 1];
-    });
+  auto each = [&](auto&& f) {
+#pragma omp parallel
+    for (int parity = 0; parity < 2; ++parity) {
+      const auto [first, last] = group_share(scratch.batches_before[parity]);
+      for (int g = first; g < last; ++g) each_in_group(scratch.groups[parity][g], f);
+    }
+    for_each_contact(scratch.serial, f);  // rows of any slab: after the groups
+  };
+  each([&](std::uint32_t a, std::uint32_t, float normal, const Vec3&) {
+    if (normal > 0.0f) ++cs.warm_begin[a + 1];
+  });
   for (std::size_t i = 0; i < n; ++i) cs.warm_begin[i + 1] += cs.warm_begin[i];
   cs.warm.resize(cs.warm_begin[n]);
   std::vector<std::uint32_t> cursor(cs.warm_begin.begin(), cs.warm_begin.end() - 1);
-#pragma omp parallel for schedule(static)
-  for (int s = 0; s < count; ++s)
-    each(cs.slabs[s], [&](Contact& c) {
-      if (!(c.normal_impulse > 0.0f)) return;  // the counting pass's test exactly (NaN too)
-      std::uint32_t partner = (c.b & kTagMask) ? c.b : entity[c.b];
-      cs.warm[cursor[c.a]++] = {partner, c.normal_impulse, c.friction_impulse};
-    });
+  each([&](std::uint32_t a, std::uint32_t b, float normal, const Vec3& friction) {
+    if (!(normal > 0.0f)) return;  // the counting pass's test exactly (NaN too)
+    const std::uint32_t partner = (b & kTagMask) ? b : entity[b];
+    cs.warm[cursor[a]++] = {partner, normal, friction};
+  });
 }
 
 }  // namespace
@@ -481,8 +474,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   }
   if (world.colliders.size() > 0) guard_colliders(step);
   store_bodies(scratch.bodies, world.pit, spheres);
-  unpack_all(world, scratch);
-  store_warm_start(world);
+  store_warm_start(world, scratch);
 }
 
 }  // namespace ballpit

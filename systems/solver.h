@@ -9,7 +9,7 @@
 // joint collider, nor a centre past the pit's floor or walls.
 //
 // Reads: radii, inverse masses, sleep, rows, colliders, gravity.
-// Writes: positions, velocities, angular velocities, contacts (impulses, warm-start cache).
+// Writes: positions, velocities, angular velocities, contacts (the warm-start cache).
 //
 // Data: the solver copies the spheres into quads of its own (systems/solver_bodies.h) and packs
 // each slab's pairs, and its spheres' pit-plane contacts, into batches of sixteen that share no
@@ -65,8 +65,8 @@ struct SolverScratch {
   // Per parity, the contacts and the batches of groups [0, k) at k: what packing and the
   // passes split among threads.
   std::vector<std::size_t> contacts_before[2], batches_before[2];
-  BatchList serial;                  // the pairs that span slabs
-  std::vector<Contact> serial_pairs;
+  BatchList serial;                  // the pairs that span slabs, packed from serial_pairs:
+  std::vector<Contact> serial_pairs; // every slab's, in slab order
   std::vector<std::uint32_t> last_batch;
 };
 

@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include "systems/batch_kernels.h"
 #include "systems/contact_batches.h"
@@ -40,13 +41,32 @@ std::vector<std::vector<Contact>> random_lists(unsigned seed, int lists, std::ui
   return out;
 }
 
+// Where a lane's contact came from: its list and its index there.
+struct Source {
+  std::size_t list;
+  std::uint32_t index;
+  bool operator<(const Source& o) const { return std::tie(list, index) < std::tie(o.list, o.index); }
+};
+
 struct Packed {
   BatchList batches;
   std::vector<std::vector<Contact>> lists;
+  std::vector<Source> sources;  // by tag
+
+  // Packing copies each contact's impulse into its lane, so an impulse set to a distinct tag
+  // before packing tells which contact a lane holds.
+  Source source(const ContactBatch& batch, int lane) const {
+    return sources.at(static_cast<std::size_t>(batch.normal_impulse[lane]));
+  }
 };
 
 Packed pack(std::vector<std::vector<Contact>> lists, std::vector<std::uint32_t>& last) {
-  Packed p{{}, std::move(lists)};
+  Packed p{{}, std::move(lists), {}};
+  for (std::size_t l = 0; l < p.lists.size(); ++l)
+    for (std::uint32_t i = 0; i < p.lists[l].size(); ++i) {
+      p.lists[l][i].normal_impulse = static_cast<float>(p.sources.size());
+      p.sources.push_back({l, i});
+    }
   std::vector<std::vector<Contact>*> views;
   for (auto& l : p.lists) views.push_back(&l);
   const std::vector<float> radius(kRows + SolverBodies::kPadRows, 0.04f);
@@ -64,22 +84,20 @@ TEST(ContactBatches, EveryContactHasOneLaneAndNoBatchHoldsASphereTwice) {
   const Packed p = pack(random_lists(1, 3, kRows / 3), last);
   std::size_t contacts = 0;
   for (const auto& l : p.lists) contacts += l.size();
-  std::set<std::uint32_t> seen;
-  for (std::size_t k = 0; k < p.batches.batches.size(); ++k) {
-    const ContactBatch& batch = p.batches.batches[k];
+  std::set<Source> seen;
+  for (std::size_t k = 0; k < p.batches.size(); ++k) {
+    const ContactBatch& batch = p.batches[k];
     std::set<std::uint32_t> rows;
     for (int lane = 0; lane < kBatchLanes; ++lane) {
-      const std::uint32_t source = p.batches.source[k * kBatchLanes + lane];
-      const bool used = batch.used >> lane & 1u;
-      ASSERT_EQ(used, source != kNoSource) << "batch " << k << " lane " << lane;
-      if (!used) {
+      if (!(batch.used >> lane & 1u)) {
         // Padding: two immobile bodies of its own, past the last sphere.
         EXPECT_EQ(batch.a[lane], SolverBodies::pad_a(kRows, lane));
         EXPECT_EQ(batch.b[lane], SolverBodies::pad_b(kRows, lane));
         continue;
       }
+      const Source source = p.source(batch, lane);
       EXPECT_TRUE(seen.insert(source).second) << "contact packed twice";
-      const Contact& c = p.lists[source >> kSourceIndexBits][source & ((1u << kSourceIndexBits) - 1u)];
+      const Contact& c = p.lists[source.list][source.index];
       EXPECT_EQ(batch.a[lane], c.a);
       EXPECT_EQ(batch.b[lane], c.b);
       EXPECT_TRUE(rows.insert(c.a).second) << "batch " << k << " holds row " << c.a << " twice";
@@ -94,15 +112,15 @@ TEST(ContactBatches, EachSphereMeetsItsContactsInListOrder) {
   // later contact of a sphere is never in the same or an earlier batch than an earlier one.
   std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
   const Packed p = pack(random_lists(2, 2, kRows / 2), last);
-  std::map<std::uint32_t, std::size_t> batch_of;  // source -> batch
-  for (std::size_t k = 0; k < p.batches.batches.size(); ++k)
+  std::map<Source, std::size_t> batch_of;
+  for (std::size_t k = 0; k < p.batches.size(); ++k)
     for (int lane = 0; lane < kBatchLanes; ++lane)
-      if (const std::uint32_t source = p.batches.source[k * kBatchLanes + lane]; source != kNoSource) batch_of[source] = k;
+      if (p.batches[k].used >> lane & 1u) batch_of[p.source(p.batches[k], lane)] = k;
   for (std::size_t l = 0; l < p.lists.size(); ++l) {
     std::map<std::uint32_t, std::size_t> latest;  // row -> batch of its latest contact so far
     for (std::uint32_t i = 0; i < p.lists[l].size(); ++i) {
       const Contact& c = p.lists[l][i];
-      const std::size_t k = batch_of.at(source_of(l, i));
+      const std::size_t k = batch_of.at({l, i});
       for (std::uint32_t row : {c.a, c.b}) {
         if (auto it = latest.find(row); it != latest.end()) {
           EXPECT_GT(k, it->second) << "row " << row;
@@ -120,8 +138,8 @@ TEST(ContactBatches, ListsThatShareNoSphereFillTheLanesTogether) {
   std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
   auto lanes_used = [](const Packed& p) {
     std::size_t used = 0;
-    for (const ContactBatch& b : p.batches.batches) used += static_cast<std::size_t>(__builtin_popcount(b.used));
-    return static_cast<double>(used) / static_cast<double>(p.batches.batches.size() * kBatchLanes);
+    for (const ContactBatch& b : p.batches) used += static_cast<std::size_t>(__builtin_popcount(b.used));
+    return static_cast<double>(used) / static_cast<double>(p.batches.size() * kBatchLanes);
   };
   const auto lists = random_lists(3, 4, kRows / 4);
   const double one = lanes_used(pack({lists[0]}, last));
@@ -131,24 +149,32 @@ TEST(ContactBatches, ListsThatShareNoSphereFillTheLanesTogether) {
   EXPECT_GT(four, 3.0 * one);
 }
 
-TEST(ContactBatches, ImpulsesComeBackToTheContactsTheyCameFrom) {
+TEST(ContactBatches, TheImpulsesOfEveryPackedContactAreReadBackOnce) {
+  // What the solver keeps for the next step's warm start: each contact's lane, with the impulses
+  // the passes left there, and nothing from the empty lanes.
   std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
   Packed p = pack(random_lists(4, 2, kRows / 2), last);
-  for (std::size_t k = 0; k < p.batches.batches.size(); ++k)
+  std::map<Source, Vec3> written;  // the friction impulse a pass left in the contact's lane
+  for (ContactBatch& batch : p.batches)
     for (int lane = 0; lane < kBatchLanes; ++lane) {
-      ContactBatch& batch = p.batches.batches[k];
-      batch.normal_impulse[lane] = static_cast<float>(batch.a[lane]) + 0.5f;
-      batch.fx[lane] = static_cast<float>(batch.b[lane]);
-      batch.fy[lane] = batch.fz[lane] = batch.impact_shift[lane] = 0.0f;
+      const Vec3 friction(static_cast<float>(batch.a[lane]), static_cast<float>(batch.b[lane]), static_cast<float>(lane));
+      batch.fx[lane] = friction.x();
+      batch.fy[lane] = friction.y();
+      batch.fz[lane] = friction.z();
+      if (batch.used >> lane & 1u) written[p.source(batch, lane)] = friction;
     }
-  std::vector<std::vector<Contact>*> views;
-  for (auto& l : p.lists) views.push_back(&l);
-  unpack_impulses(p.batches, views);
-  for (const auto& l : p.lists)
-    for (const Contact& c : l) {
-      EXPECT_EQ(c.normal_impulse, static_cast<float>(c.a) + 0.5f);
-      EXPECT_EQ(c.friction_impulse.x(), static_cast<float>(c.b));
-    }
+  std::size_t visits = 0;
+  std::set<Source> seen;
+  for_each_contact(p.batches, [&](std::uint32_t a, std::uint32_t b, float normal, const Vec3& friction) {
+    ++visits;
+    const Source source = p.sources.at(static_cast<std::size_t>(normal));
+    EXPECT_TRUE(seen.insert(source).second) << "contact read twice";
+    const Contact& c = p.lists[source.list][source.index];
+    EXPECT_EQ(a, c.a);
+    EXPECT_EQ(b, c.b);
+    EXPECT_EQ(friction, written.at(source));
+  });
+  EXPECT_EQ(visits, p.sources.size());
 }
 
 TEST(ContactBatches, EmptyLanesWriteNothing) {
@@ -158,8 +184,8 @@ TEST(ContactBatches, EmptyLanesWriteNothing) {
   // that stored its empty lanes would change it, on every instruction set this CPU runs.
   std::vector<std::uint32_t> last(kRows + SolverBodies::kPadRows, 0);
   Packed p = pack({{pair(0, 1)}}, last);
-  ASSERT_EQ(p.batches.batches.size(), 1u);
-  ASSERT_EQ(p.batches.batches[0].used, 1u);
+  ASSERT_EQ(p.batches.size(), 1u);
+  ASSERT_EQ(p.batches[0].used, 1u);
   for (const BatchKernels* kernels : available_batch_kernels()) {
     SolverBodies bodies;
     bodies.rows = kRows;
@@ -175,7 +201,7 @@ TEST(ContactBatches, EmptyLanesWriteNothing) {
     for (const bool spin : {false, true})
       for (const ContactPass pass : {ContactPass::WarmStart, ContactPass::Solve, ContactPass::Relax}) {
         BatchPassResult result;
-        ContactBatch* batch = p.batches.batches.data();
+        ContactBatch* batch = p.batches.data();
         kernels->get(BatchKind::Pairs, pass, spin)(batch, batch + 1, bodies, args, result);
       }
     EXPECT_NE(bodies.body[0].velocity.x, first.velocity.x) << kernels->name << ": the used lane must act";

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 
 #include "engine/error.h"
 #include "engine/metrics.h"
@@ -294,4 +295,33 @@ TEST(Solver, RefusesAWorldWhoseContactsTheNarrowphaseDidNotFind) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("narrowphase must run first"), std::string::npos) << e.what();
   }
+}
+
+// What the next step starts from: the solver caches each contact's impulse under its generating
+// row and partner. In a resting stack of three each contact carries the weight above it, one
+// substep's worth: m g h under the top ball, 2 m g h under the middle, 3 m g h on the floor.
+TEST(Solver, TheWarmStartCacheHoldsTheLoadOfEachContactOfAStack) {
+  test::Sim s;
+  test::make_pit(s.world, 1.0f, 0.0f, 0.5f);
+  const float r = 0.04f, m = 0.05f;
+  Entity balls[3];
+  for (int k = 0; k < 3; ++k) balls[k] = test::add_ball(s.world, Vec3(0, r + 2.0f * r * static_cast<float>(k), 0), Vec3::Zero(), r, m);
+  s.start(2);
+  s.step(120);
+  const float weight = m * s.world.gravity().norm() * s.world.step() / static_cast<float>(s.world.solver.substeps);
+
+  const ContactSet& cache = s.world.contacts;
+  auto entity = s.world.spheres.entity_index();
+  std::map<std::pair<std::uint32_t, std::uint32_t>, float> load;  // entity pair (floor: kPlaneTag) -> impulse
+  for (std::size_t row = 0; row < entity.size(); ++row)
+    for (std::uint32_t k = cache.warm_begin[row]; k < cache.warm_begin[row + 1]; ++k) {
+      const WarmStartEntry& e = cache.warm[k];
+      EXPECT_FALSE(load.contains({std::min(entity[row], e.partner), std::max(entity[row], e.partner)})) << "cached twice";
+      load[{std::min(entity[row], e.partner), std::max(entity[row], e.partner)}] = e.normal_impulse;
+    }
+  ASSERT_EQ(load.size(), 3u);
+  const std::uint32_t bottom = balls[0].index, middle = balls[1].index, top = balls[2].index;
+  EXPECT_NEAR(load.at({bottom, kPlaneTag | 0u}), 3.0f * weight, 0.01f * weight);
+  EXPECT_NEAR(load.at({std::min(bottom, middle), std::max(bottom, middle)}), 2.0f * weight, 0.01f * weight);
+  EXPECT_NEAR(load.at({std::min(middle, top), std::max(middle, top)}), weight, 0.01f * weight);
 }
