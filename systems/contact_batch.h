@@ -18,9 +18,14 @@ struct alignas(64) ContactBatch {
   std::uint32_t a[kBatchLanes];  // sphere row that generated the contact
   std::uint32_t b[kBatchLanes];  // partner row (in the slab or the next), or the tagged plane
   // The frame as the last pass that computed it left it: unit normal from a into the partner,
-  // gap (m). A plane's normal never changes; its gap is -n . x - plane_offset - r.
-  float nx[kBatchLanes], ny[kBatchLanes], nz[kBatchLanes], gap[kBatchLanes];
-  float plane_offset[kBatchLanes];                          // plane batches only (m)
+  // and for a pair the gap (m). A plane's normal never changes, and its gap, -n . x - offset - r,
+  // is cheaper to compute than to keep: a plane batch keeps the plane's offset (m) in its place,
+  // so no batch carries a column it does not use.
+  float nx[kBatchLanes], ny[kBatchLanes], nz[kBatchLanes];
+  union {
+    float gap[kBatchLanes];           // pair batches
+    float plane_offset[kBatchLanes];  // plane batches
+  };
   float normal_impulse[kBatchLanes];                        // (unit: N s)
   float fx[kBatchLanes], fy[kBatchLanes], fz[kBatchLanes];  // friction impulse (unit: N s)
   float friction[kBatchLanes];                              // combined Coulomb coefficient

@@ -18,6 +18,9 @@ constexpr std::size_t kOpenBatches = 32;
 // How many batches past the newest one packing asks the cache for.
 constexpr std::size_t kPrefetchBatches = 2;
 
+// How many contacts ahead of the one being packed each list is fetched into the cache.
+constexpr std::uint32_t kPrefetchContacts = 8;
+
 // Batches in index order; last[row] is stamp + one past the index of the latest batch holding
 // the row (less than stamp: none in this packing). A contact joins the earliest open batch after
 // every batch that already holds one of its spheres, so each sphere meets its contacts in list
@@ -102,17 +105,12 @@ void pad_empty_lanes(BatchList& out, std::uint32_t pad_rows) {
       batch.a[lane] = SolverBodies::pad_a(pad_rows, lane);
       batch.b[lane] = SolverBodies::pad_b(pad_rows, lane);
       batch.nx[lane] = batch.nz[lane] = 0.0f;
-      batch.ny[lane] = batch.gap[lane] = 1.0f;
-      batch.plane_offset[lane] = batch.normal_impulse[lane] = 0.0f;
+      batch.ny[lane] = batch.gap[lane] = 1.0f;  // in a plane batch the offset: its padding lies 1e6 m from it
+      batch.normal_impulse[lane] = 0.0f;
       batch.fx[lane] = batch.fy[lane] = batch.fz[lane] = 0.0f;
       batch.friction[lane] = batch.restitution[lane] = batch.reach[lane] = batch.impact_shift[lane] = 0.0f;
     }
 }
-
-}  // namespace
-
-// How many contacts ahead of the one being packed each list is fetched into the cache.
-constexpr std::uint32_t kPrefetchContacts = 8;
 
 // Calls visit(list, index) for the contacts of all lists, one from each list in turn. Up to
 // eight lists are read side by side, more streams than the hardware's prefetch kept up with:
@@ -129,6 +127,8 @@ void in_turn(ContactLists lists, Visit&& visit) {
       visit(l, i);
     }
 }
+
+}  // namespace
 
 void pack_pairs(ContactLists lists, const PackInput& in, BatchList& out) {
   start(lists, out);
