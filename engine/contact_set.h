@@ -21,9 +21,10 @@ inline constexpr std::uint32_t kPlaneTag = 0x80000000u;
 inline constexpr std::uint32_t kColliderTag = 0x40000000u;
 inline constexpr std::uint32_t kTagMask = kPlaneTag | kColliderTag;
 
-// The impulses are those the step starts from (last step's, found in the warm-start cache). The
-// solver works on copies in its batches and leaves its results in the cache, not here (a joint
-// collider's contact, solved one at a time, holds them while the step runs).
+// A contact as the narrowphase finds it. The impulses are those the step starts from (last
+// step's, from the warm-start cache). The solver works on copies and leaves its results in the
+// cache: it never writes the contact lists, so the once-a-step walks over them read 32 bytes a
+// contact.
 struct Contact {
   std::uint32_t a;             // sphere row that generated the contact
   std::uint32_t b;             // partner sphere row, or kPlaneTag|plane, or kColliderTag|row
@@ -31,9 +32,11 @@ struct Contact {
   Vec3 friction_impulse;       // accumulated tangential impulse of one substep (unit: N s)
   float friction;              // combined Coulomb coefficient
   float restitution;           // combined restitution
-  float impact_shift;          // (1+e) x gap of an impact this substep, undone after the move (m)
-  bool loaded_last_step;       // carried a normal impulse at the end of the last step: no impact
+
+  // Carried a normal impulse at the end of the last step: no impact (systems/contact_kernel.h).
+  bool loaded_last_step() const { return normal_impulse > 0.0f; }
 };
+static_assert(sizeof(Contact) == 32);
 
 // Impulses carried from one step to the next, keyed by the generating sphere's row at the end
 // of the step and the partner's entity index (or tagged plane/collider id).
@@ -59,7 +62,7 @@ struct ContactSet {
   std::vector<WarmStartEntry> warm;
 
   // Rows with a sphere-sphere contact that carried load at the end of the last step
-  // (Contact::loaded_last_step), 1 by row: spheres resting in a pile. The narrowphase marks them
+  // (Contact::loaded_last_step()), 1 by row: spheres resting in a pile. The narrowphase marks them
   // as it makes the contacts; the solver treats their impacts differently (systems/solver.cpp).
   std::vector<std::uint8_t> piled;
 

@@ -86,8 +86,8 @@ void fill(ContactBatch& batch, int lane, const Contact& c, float reach) {
   batch.friction[lane] = c.friction;
   batch.restitution[lane] = c.restitution;
   batch.reach[lane] = reach;
-  batch.impact_shift[lane] = c.impact_shift;
-  if (c.loaded_last_step) batch.loaded_last_step |= 1u << lane;
+  batch.impact_shift[lane] = 0.0f;  // no impact yet this step
+  if (c.loaded_last_step()) batch.loaded_last_step |= 1u << lane;
 }
 
 void start(ContactLists lists, BatchList& out) {

@@ -125,7 +125,7 @@ struct SlabSearch {
   // A pair that carried load marks both its rows as piled. The partner may lie in the next slab,
   // whose rows another thread marks too, so the mark is an atomic store (on x86 a plain one).
   void mark_piled(const Contact& c) const {
-    if (!c.loaded_last_step) return;
+    if (!c.loaded_last_step()) return;
     std::atomic_ref<std::uint8_t>(piled[c.a]).store(1, std::memory_order_relaxed);
     std::atomic_ref<std::uint8_t>(piled[c.b]).store(1, std::memory_order_relaxed);
   }
@@ -162,7 +162,7 @@ struct SlabSearch {
     static const WarmStartEntry kNoEntry{0, 0.0f, Vec3::Zero()};
     const WarmStartEntry& e = w ? *w : kNoEntry;
     const Vec3 friction = reversed ? Vec3(-e.friction_impulse) : e.friction_impulse;
-    return {a, b, e.normal_impulse, friction, m.friction, m.restitution, 0.0f, e.normal_impulse > 0.0f};
+    return {a, b, e.normal_impulse, friction, m.friction, m.restitution};
   }
 
   // What the contacts of generator row i share, looked up once for all of them.

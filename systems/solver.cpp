@@ -160,7 +160,8 @@ struct Step {
 
   // A contact with a joint collider: infinitely heavy, unspun, moved by the animation alone.
   template <ContactPass pass>
-  void solve_collider(Contact& contact, BatchPassResult& result) {
+  void solve_collider(ColliderContact& collider, BatchPassResult& result) {
+    const Contact& contact = *collider.contact;
     SolverBody& body = scratch.bodies.body[contact.a];
     StaticState c{};
     collider_frame(contact.a, contact.b, c);
@@ -170,17 +171,17 @@ struct Step {
     c.sa = xyz(body.spin);
     c.pushed_a = body.spin.w;
     if (pass == ContactPass::Solve) c.pa = xyz(body.pseudo);
-    c.normal_impulse = contact.normal_impulse;
-    c.friction_impulse = v3(contact.friction_impulse);
+    c.normal_impulse = collider.normal_impulse;
+    c.friction_impulse = v3(collider.friction_impulse);
     c.friction = contact.friction;
     c.restitution = contact.restitution;
-    c.impact_shift = contact.impact_shift;
-    c.loaded_last_step = contact.loaded_last_step;
+    c.impact_shift = collider.impact_shift;
+    c.loaded_last_step = contact.loaded_last_step();
     c.free_pair = true;
     if (spin) run_static<pass, true>(c);
     else run_static<pass, false>(c);
-    contact.normal_impulse = c.normal_impulse;
-    contact.friction_impulse = Vec3(c.friction_impulse.x, c.friction_impulse.y, c.friction_impulse.z);
+    collider.normal_impulse = c.normal_impulse;
+    collider.friction_impulse = Vec3(c.friction_impulse.x, c.friction_impulse.y, c.friction_impulse.z);
     body.velocity = quad(c.va, c.ma);
     body.spin = quad(c.sa, c.pushed_a);
     if (pass == ContactPass::Solve) body.pseudo = quad(c.pa, body.pseudo.w);
@@ -190,7 +191,7 @@ struct Step {
       c.impact_shift = 0.0f;
       result.shifted = true;
     }
-    contact.impact_shift = c.impact_shift;
+    collider.impact_shift = c.impact_shift;
   }
 
   template <ContactPass pass, bool with_spin>
@@ -207,10 +208,7 @@ struct Step {
   template <ContactPass pass>
   void solve_statics(SlabGroup& group, BatchPassResult& result) {
     run_batches(BatchKind::Planes, pass, group.planes, result);
-    if (world.colliders.size() == 0) return;
-    for (std::vector<Contact>* statics : group.statics)
-      for (Contact& c : *statics)
-        if (c.b & kColliderTag) solve_collider<pass>(c, result);
+    for (ColliderContact& c : group.colliders) solve_collider<pass>(c, result);
   }
 
   // A group's contacts: planes and colliders first, so the floor's support travels up a column
@@ -300,6 +298,13 @@ void group_slabs(World& world, SolverScratch& scratch) {
   }
 }
 
+// A group's joint-collider contacts, each with the impulses it starts the step from.
+void list_colliders(SlabGroup& group) {
+  for (const std::vector<Contact>* statics : group.statics)
+    for (const Contact& c : *statics)
+      if (c.b & kColliderTag) group.colliders.push_back({&c, c.normal_impulse, c.friction_impulse, 0.0f});
+}
+
 // Each group's planes and pairs into batches; the pairs that span slabs into batches of their
 // own. Groups of one parity share the `last_batch` scratch: they hold no row in common.
 void pack_all(World& world, SolverScratch& scratch) {
@@ -317,6 +322,7 @@ void pack_all(World& world, SolverScratch& scratch) {
                 " rows, the world has " + std::to_string(scratch.bodies.rows) + " (the narrowphase must run first)");
   PackInput in{world.spheres.radius(), piled, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
                scratch.last_batch};
+  const bool colliders = world.colliders.size() > 0;
   for (int parity = 0; parity < 2; ++parity) {
     std::vector<SlabGroup>& groups = scratch.groups[parity];
     // Planes, then pairs: the pairs' stamp lies above the planes'.
@@ -332,6 +338,8 @@ void pack_all(World& world, SolverScratch& scratch) {
       for (int g = first; g < last; ++g) {
         pack_planes(groups[g].statics, planes, groups[g].planes);
         pack_pairs(groups[g].pairs, pairs, groups[g].pair_batches);
+        groups[g].colliders.clear();
+        if (colliders) list_colliders(groups[g]);
       }
     }
     std::vector<std::size_t>& before = scratch.batches_before[parity];
@@ -396,9 +404,7 @@ void store_warm_start(World& world, SolverScratch& scratch) {
   auto each_in_group = [](const SlabGroup& group, auto&& f) {
     for_each_contact(group.planes, f);
     for_each_contact(group.pair_batches, f);
-    for (const std::vector<Contact>* statics : group.statics)
-      for (const Contact& c : *statics)
-        if (c.b & kColliderTag) f(c.a, c.b, c.normal_impulse, c.friction_impulse);
+    for (const ColliderContact& c : group.colliders) f(c.contact->a, c.contact->b, c.normal_impulse, c.friction_impulse);
   };
   auto each = [&](auto&& f) {
 #pragma omp parallel

@@ -48,10 +48,20 @@ class World;
 
 // Slabs of one parity, whose contacts share no sphere, packed and solved as one stream of
 // batches (systems/contact_batches.h).
+// A joint-collider contact, solved one at a time, and what it changes while the step runs (the
+// contact itself stays as the narrowphase found it).
+struct ColliderContact {
+  const Contact* contact;
+  float normal_impulse;
+  Vec3 friction_impulse;
+  float impact_shift;  // (1+e) x gap of an impact this substep, undone after the move (m)
+};
+
 struct SlabGroup {
   std::vector<int> slabs;
   std::vector<std::vector<Contact>*> statics, pairs;  // the slabs' lists
   BatchList planes, pair_batches;
+  std::vector<ColliderContact> colliders;  // among the statics, in list order
 };
 
 // What the solver keeps between steps only to reuse its memory, and two choices that change no

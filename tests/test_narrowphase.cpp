@@ -118,7 +118,7 @@ TEST(Narrowphase, MarksExactlyTheRowsOfLoadedPairsAsPiled) {
   for (const SlabContacts& sl : s.world.contacts.slabs)
     for (const auto* list : {&sl.pairs, &sl.serial})
       for (const Contact& c : *list) {
-        if (!c.loaded_last_step) {
+        if (!c.loaded_last_step()) {
           ++unloaded;
           continue;
         }
