@@ -388,9 +388,9 @@ void guard_colliders(Step& step) {
 
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
 // partner's entity (rows move in the next grid rebuild; entities do not). They are read where the
-// passes left them, in the batches (a joint collider's in its contact), not copied back into the
-// contact lists first: in a one-substep solve of a 100k pile (bench_solver, 1 thread, perf) the
-// copy and the two walks over the lists took 17% of the time, reading the batches takes 11%.
+// passes left them, in the batches (a joint collider's in its ColliderContact), not copied back
+// into the contact lists first: in a one-substep solve of a 100k pile (bench_solver, 1 thread,
+// perf) the copy and the two walks over the lists took 17% of the time, reading the batches 11%.
 // Every row's entries are keyed by a distinct partner, so the order they are stored in, batch
 // order, changes no lookup.
 void store_warm_start(World& world, SolverScratch& scratch) {
