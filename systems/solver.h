@@ -46,8 +46,6 @@ namespace ballpit {
 
 class World;
 
-// Slabs of one parity, whose contacts share no sphere, packed and solved as one stream of
-// batches (systems/contact_batches.h).
 // A joint-collider contact, solved one at a time, and what it changes while the step runs (the
 // contact itself stays as the narrowphase found it).
 struct ColliderContact {
@@ -57,6 +55,8 @@ struct ColliderContact {
   float impact_shift;  // (1+e) x gap of an impact this substep, undone after the move (m)
 };
 
+// Slabs of one parity, whose contacts share no sphere, packed and solved as one stream of
+// batches (systems/contact_batches.h).
 struct SlabGroup {
   std::vector<int> slabs;
   std::vector<std::vector<Contact>*> statics, pairs;  // the slabs' lists
@@ -75,8 +75,9 @@ struct SolverScratch {
   // Per parity, the contacts and the batches of groups [0, k) at k: what packing and the
   // passes split among threads.
   std::vector<std::size_t> contacts_before[2], batches_before[2];
-  BatchList serial;                  // the pairs that span slabs, packed from serial_pairs:
-  std::vector<Contact> serial_pairs; // every slab's, in slab order
+  // The pairs that span slabs: every slab's, in slab order, and their batches.
+  std::vector<Contact> serial_pairs;
+  BatchList serial;
   std::vector<std::uint32_t> last_batch;
 };
 
