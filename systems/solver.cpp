@@ -11,6 +11,7 @@
 #include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/batch_kernels.h"
+#include "systems/collider_guard.h"
 #include "systems/contact_batches.h"
 #include "systems/integrate.h"
 
@@ -35,11 +36,6 @@ constexpr std::size_t kContactsPerThread = 4096;
 constexpr int kMinSlabsPerGroup = 2;
 constexpr int kMaxSlabsPerGroup = 8;
 constexpr int kGroupsPerThread = 4;
-
-// Sweeps of the joint-collider guard per step. A sphere wedged between two limbs is pushed out
-// of each in turn; a few rounds settle such a wedge (one does not: the second push can undo the
-// first).
-constexpr int kColliderGuardPasses = 4;
 
 // The calling thread's groups of one parity: contiguous runs of about equal cost (the cost of
 // groups [0, k) at cost_before[k]: contacts when packing, batches in the passes), so each thread
@@ -355,37 +351,6 @@ void pack_all(World& world, SolverScratch& scratch) {
   pack_pairs({&serial, 1}, in, scratch.serial);
 }
 
-// Joint-collider guard, once after the last substep, with the colliders where the step leaves
-// them: a sphere still inside one is moved out to its surface along the contact normal, and its
-// approach along that normal (relative to the surface) removed. In a jam (a hoof pressing a ball
-// into the pile) the contacts cannot all hold, and a collider has infinite mass, so it must win:
-// the spheres' overlap takes the rest, and their push-out spreads it over the next step. Once
-// per step, not per substep: a guard inside the substeps keeps re-creating the approach that the
-// pair impacts then bounce (measured: balls at 14 m/s off a 1 m/s hoof). A slab's statics touch
-// only its own rows.
-void guard_colliders(Step& step) {
-  std::vector<SlabContacts>& slabs = step.world.contacts.slabs;
-  SolverBodies& bodies = step.scratch.bodies;
-  step.collider_time = step.world.step();
-  const int count = static_cast<int>(slabs.size());
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int k = 0; k < count; ++k) {
-    for (int pass = 0; pass < kColliderGuardPasses; ++pass) {
-      for (const Contact& contact : slabs[k].statics) {
-        if (!(contact.b & kColliderTag)) continue;
-        StaticState c{};
-        step.collider_frame(contact.a, contact.b, c);
-        if (c.gap >= 0.0f) continue;
-        Quad& x = bodies.body[contact.a].position;
-        x = quad(xyz(x) + c.gap * c.n, x.w);  // n points into the collider, gap < 0: outward
-        Quad& v = bodies.body[contact.a].velocity;
-        const float approach = dot(xyz(v) - c.vb, c.n);
-        if (approach > 0.0f) v = quad(xyz(v) - approach * c.n, v.w);
-      }
-    }
-  }
-}
-
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
 // partner's entity (rows move in the next grid rebuild; entities do not). They are read where the
 // passes left them, in the batches (a joint collider's in its ColliderContact), not copied back
@@ -478,7 +443,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
     step.sweep<ContactPass::Relax>();
     step.args.frames_current = settings.keep_pair_frames && !step.shifted;
   }
-  if (world.colliders.size() > 0) guard_colliders(step);
+  guard_colliders(world.colliders, world.step(), spheres.position(), scratch.bodies);  // before the positions are stored
   store_bodies(scratch.bodies, world.pit, spheres);
   store_warm_start(world, scratch);
 }
