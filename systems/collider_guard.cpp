@@ -19,8 +19,12 @@ constexpr int kGuardPasses = 4;
 constexpr float kSurfaceSlack = 1e-4f;
 
 // Moves of a pinched sphere out of its pinch (squeeze_out): each clears both surfaces to first
-// order, and the next corrects for their curvature.
+// order, and the next corrects for their curvature. A move is at most kSqueezeReach radii: nearly
+// parallel surfaces ask for a move as long as 1 / (1 - (n0 . n1)^2), metres for a ball between
+// two limbs that lie side by side, where the first-order picture no longer holds. A pinch too
+// long to leave within kSqueezeSteps moves is left for the next step to continue.
 constexpr int kSqueezeSteps = 4;
+constexpr float kSqueezeReach = 2.0f;
 
 // Bisection steps that place a sphere where its path entered a capsule: 2^-24 of a step's path,
 // below float precision of any position in the pit.
@@ -102,8 +106,8 @@ bool entry_point(const Capsule& c, const Vec3& p0, const Vec3& p1, float reach, 
 }
 
 // A sphere still inside after the passes is pinched: two colliders closing on it from nearly
-// opposite sides push it back and forth, each push undoing most of the other (a hand passing a
-// thigh, in the 100k pit). It leaves the pinch sideways, as a squeezed ball does, by the
+// opposite sides push it back and forth, each push undoing most of the other (two limbs in the
+// 100k pit). It leaves the pinch sideways, as a squeezed ball does, by the
 // shortest move that clears both surfaces to first order: out of the deepest collider alone if
 // that does not enter another, else d = a n0 + b n1 with n_k . d = -gap_k. Nearly opposite
 // normals make that move long, as it is for a ball between two close, nearly parallel limbs.
@@ -136,6 +140,8 @@ void squeeze_out(const std::vector<Capsule>& capsules, Quad& x, Quad& v) {
       if (!(det > 1e-6f)) return;  // exactly opposite: no side to leave by
       const float a = (-f0.gap + c * f1.gap) / det, b = (-f1.gap + c * f0.gap) / det;
       if (a >= 0.0f && b >= 0.0f) d = a * f0.n + b * f1.n;
+      const float length = d.norm();
+      if (length > kSqueezeReach * r) d *= kSqueezeReach * r / length;
       put_back(x, v, d, f0);
       put_back(x, v, Vec3::Zero(), f1);
     } else {

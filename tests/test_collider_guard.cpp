@@ -2,6 +2,7 @@
 // are given (start, and where the substeps left them).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "systems/collider_guard.h"
@@ -149,6 +150,30 @@ TEST(ColliderGuard, APinchedSphereLeavesByTheOpeningBetweenTheColliders) {
   }
   EXPECT_LT(x.z(), -0.12f);
   EXPECT_NEAR(x.y(), 1.0f, 1e-6f);
+}
+
+TEST(ColliderGuard, APinchTooLongToLeaveInOneStepIsNotFlung) {
+  // The same pinch between two 2 m capsules that lie almost side by side (the gap opens by 4 mm
+  // over their length, never to the 0.18 m the sphere needs): to first order the way out is
+  // metres long. The sphere moves at most 4 moves of 2 r (plus the passes' 0.01 m pushes), and
+  // along the capsules, not off them.
+  ColliderTable table;
+  ColliderDesc d;
+  d.shape = ColliderShape::Capsule;
+  d.radius = 0.05f;
+  d.a = Vec3(-0.08f, 1.0f, -1.0f);
+  d.b = Vec3(-0.08f, 1.0f, 1.0f);
+  table.add(d);
+  d.a = Vec3(0.082f, 1.0f, -1.0f);
+  d.b = Vec3(0.078f, 1.0f, 1.0f);
+  table.add(d);
+  Guarded g;
+  g.add(Vec3(0.0f, 1.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f), Vec3::Zero());
+  guard_colliders(table, kDt, g.start, g.bodies);
+  const Vec3 moved = g.position(0) - Vec3(0.0f, 1.0f, 0.0f);
+  EXPECT_LE(moved.norm(), 8.0f * kR + 0.02f) << moved.transpose();
+  EXPECT_LE(std::abs(moved.x()), 0.02f);
+  EXPECT_NEAR(moved.y(), 0.0f, 1e-6f);
 }
 
 }  // namespace
