@@ -173,7 +173,7 @@ struct Step {
     c.restitution = contact.restitution;
     c.impact_shift = collider.impact_shift;
     c.loaded_last_step = contact.loaded_last_step();
-    c.free_pair = true;
+    c.free_pair = !world.contacts.piled[contact.a];  // a limb strikes no sphere in a pile, as a plane does not
     if (spin) run_static<pass, true>(c);
     else run_static<pass, false>(c);
     collider.normal_impulse = c.normal_impulse;
