@@ -10,31 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
 
-#include <fcntl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include "engine/error.h"
-
-// Debian builds assimp with ASSIMP_BUILD_DEBUG, so its internal checks (ai_assert) are live, and
-// a failed one prints a line and aborts the whole process: a malformed model file (fuzzing found
-// a .X file whose faces break the triangulation's count) would take the app down. This
-// definition replaces the library's own: the executable's symbol is found first, and assimp
-// 5.2 offers no handler to set instead. It throws, Importer::ReadFile's catch-all turns that
-// into a failed import with this message, and import_model reports it naming the file.
-// (The library's signature, declared by <assimp/ai_assert.h> only under ASSIMP_BUILD_DEBUG.)
-namespace Assimp {
-[[noreturn]] void aiAssertViolation(const char* expression, const char* file, int line);
-void aiAssertViolation(const char* expression, const char* file, int line) {
-  throw std::runtime_error(std::string("an internal check failed (") + expression + ", " + file + ":" +
-                           std::to_string(line) + ")");
-}
-}  // namespace Assimp
+#include "engine/model_probe.h"
 
 namespace ballpit {
 
@@ -49,33 +30,6 @@ constexpr float kNegligibleWeight = 1e-6f;
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
   throw Error("model file '" + path + "': " + what);
-}
-
-// assimp crashes on some damaged files (fuzzing found a .X file that makes its parser follow a
-// null pointer), and a crash inside a library cannot be caught. So assimp first reads the file
-// in a child process, and a file that child does not survive is refused here; only a file it
-// read (or refused cleanly) is imported for real. The cost: a fork and a second parse, a few
-// milliseconds for the shipped models. The child's exit status says which: 0 read, 3 refused;
-// anything else (a signal, or a sanitizer's own exit after one) is a crash.
-void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags) {
-  constexpr int kRead = 0, kRefused = 3;
-  const pid_t child = fork();
-  if (child < 0) return;  // no process to spare: import directly, as without the check
-  if (child == 0) {
-    // Quiet: the parent reports the outcome (a sanitizer would print a crash report here).
-    if (const int null = open("/dev/null", O_WRONLY); null >= 0) dup2(null, STDERR_FILENO);
-    Assimp::Importer importer;
-    const bool read = importer.ReadFile(path, flags) != nullptr;
-    _exit(read ? kRead : kRefused);  // no exit handlers in the copy of this process
-  }
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0) {
-    if (errno != EINTR) return;
-  }
-  if (WIFEXITED(status) && (WEXITSTATUS(status) == kRead || WEXITSTATUS(status) == kRefused)) return;
-  const std::string how = WIFSIGNALED(status) ? std::string(strsignal(WTERMSIG(status)))
-                                              : "exit status " + std::to_string(WEXITSTATUS(status));
-  fail(path, "assimp crashed reading it (" + how + "): the file is damaged");
 }
 
 Affine3 to_affine(const aiMatrix4x4& m) {

@@ -2,11 +2,15 @@
 // ballpit::Error (naming the file and what is missing) for every kind of bad model file.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <unistd.h>
 
@@ -136,6 +140,23 @@ TEST(ModelImport, AJointNoClipAnimatesHoldsItsRestPose) {
     EXPECT_TRUE(t.rotations[0].coeffs() == m.skeleton.rest_rotation[0].coeffs()) << c.name;
     EXPECT_TRUE(t.translations[0] == m.skeleton.rest_translation[0]) << c.name;
   }
+}
+
+// import_model reads the file in a separate process first (engine/model_import.cpp). That
+// process must start afresh: a fork of this one inherits every lock another thread held at that
+// moment, with no thread left to release it. It once waited for good on the allocator's lock
+// under AddressSanitizer: the app imports while the scheduler's and OpenMP's threads run. Here a
+// thread allocates without pause through ten imports.
+TEST(ModelImport, ImportsFinishWhileAnotherThreadAllocates) {
+  std::atomic<bool> stop{false};
+  std::thread churn([&] {
+    std::vector<std::unique_ptr<char[]>> held(64);
+    for (std::size_t i = 0; !stop.load(std::memory_order_relaxed); ++i)
+      held[i % held.size()] = std::make_unique<char[]>(16 + i % 4096);
+  });
+  for (int i = 0; i < 10; ++i) EXPECT_NO_THROW(import_model(kDefaultModelPath)) << "import " << i;
+  stop = true;
+  churn.join();
 }
 
 // ---- bad files: each error names the file and what is missing; none crashes ----------------

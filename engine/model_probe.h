@@ -1,0 +1,29 @@
+// The model probe: assimp reads a model file first in a process of its own, the
+// ballpit-model-probe executable, and import_model reads it only if that process survived.
+// assimp crashes on some damaged files (fuzzing found a .X file that makes its parser follow a
+// null pointer) and loops on others, and neither can be caught inside the process that reads.
+// Decision: the probe is a fresh program, started with posix_spawn, never a fork of the caller.
+// A fork copies the caller's memory with every lock another thread held at that moment and no
+// thread to release it; the app imports while the scheduler's and OpenMP's threads run, and a
+// forked reader once waited for good on the allocator's lock (AddressSanitizer's).
+#pragma once
+
+#include <string>
+
+namespace ballpit {
+
+// The probe's exit statuses. Anything else (a signal, a sanitizer's exit after a report) is a
+// crash.
+inline constexpr int kProbeRead = 0;     // assimp read the file
+inline constexpr int kProbeUsage = 2;    // the probe was started wrongly
+inline constexpr int kProbeRefused = 3;  // assimp refused it cleanly (import_model says why)
+
+// In the importing process: runs the probe on `path` with assimp's post-processing `flags` and
+// throws ballpit::Error naming the file if assimp crashed on it or did not finish within
+// a minute, or if the probe executable is missing.
+void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags);
+
+// In the probe process: assimp reads the file; returns the exit status for it.
+int read_in_probe(const char* path, unsigned flags);
+
+}  // namespace ballpit
