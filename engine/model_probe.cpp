@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -40,11 +41,7 @@ namespace ballpit {
 namespace {
 
 // The build tree's probe (engine/CMakeLists.txt).
-constexpr const char* kProbePath = BALLPIT_MODEL_PROBE_PATH;
-
-// Longer than any model the app could animate takes to read (the Wuson: 0.05 s, 0.3 s under
-// AddressSanitizer); a probe still reading then is stuck, and so would the import be.
-constexpr std::chrono::seconds kProbeTimeLimit{60};
+constexpr const char* kBuiltProbe = BALLPIT_MODEL_PROBE_PATH;
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
   throw Error("model file '" + path + "': " + what);
@@ -79,9 +76,10 @@ int read_in_probe(const char* path, unsigned flags) {
   return importer.ReadFile(path, flags) != nullptr ? kProbeRead : kProbeRefused;
 }
 
-void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags) {
+void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags, const ProbeSettings& probe) {
+  const std::string program = probe.program.empty() ? kBuiltProbe : probe.program;
   const std::string flag_text = std::to_string(flags);
-  char* const argv[] = {const_cast<char*>(kProbePath), const_cast<char*>(flag_text.c_str()),
+  char* const argv[] = {const_cast<char*>(program.c_str()), const_cast<char*>(flag_text.c_str()),
                         const_cast<char*>(path.c_str()), nullptr};
   // Quiet: the importing process reports the outcome (a sanitizer would print a crash report).
   posix_spawn_file_actions_t quiet;
@@ -89,26 +87,28 @@ void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags) {
   posix_spawn_file_actions_addopen(&quiet, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_adddup2(&quiet, STDOUT_FILENO, STDERR_FILENO);
   pid_t child = 0;
-  const int spawned = posix_spawn(&child, kProbePath, &quiet, nullptr, argv, environ);
+  const int spawned = posix_spawn(&child, program.c_str(), &quiet, nullptr, argv, environ);
   posix_spawn_file_actions_destroy(&quiet);
   if (spawned == ENOENT || spawned == EACCES) {
-    fail(path, std::string("cannot check it before reading: the model probe '") + kProbePath + "' " +
+    fail(path, "cannot check it before reading: the model probe '" + program + "' " +
                    (spawned == ENOENT ? "is missing" : "cannot be run") + " (build the target ballpit-model-probe)");
   }
   if (spawned != 0) return;  // no process to spare (EAGAIN, ENOMEM): import directly, unchecked
 
-  const ProbeWait wait = wait_until(child, std::chrono::steady_clock::now() + kProbeTimeLimit);
+  const ProbeWait wait = wait_until(child, std::chrono::steady_clock::now() + probe.time_limit);
   if (wait.state == ProbeWait::Lost) return;  // no verdict: import directly, unchecked
   if (wait.state == ProbeWait::Running) {
     kill(child, SIGKILL);
     waitpid(child, nullptr, 0);
-    fail(path, "assimp did not finish reading it within " + std::to_string(kProbeTimeLimit.count()) +
-                   " s: the file is damaged, or too large to animate");
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g s", std::chrono::duration<double>(probe.time_limit).count());
+    fail(path, std::string("assimp did not finish reading it within ") + limit +
+                   ": the file is damaged, or too large to animate");
   }
   const int s = wait.status;
   if (WIFEXITED(s) && (WEXITSTATUS(s) == kProbeRead || WEXITSTATUS(s) == kProbeRefused)) return;
   if (WIFEXITED(s) && WEXITSTATUS(s) == kProbeUsage) {
-    fail(path, std::string("the model probe '") + kProbePath + "' refused how it was started (" + flag_text + " " + path + ")");
+    fail(path, "the model probe '" + program + "' refused how it was started (" + flag_text + " " + path + ")");
   }
   const std::string how = WIFSIGNALED(s) ? std::string(strsignal(WTERMSIG(s))) : "exit status " + std::to_string(WEXITSTATUS(s));
   fail(path, "assimp crashed reading it (" + how + "): the file is damaged");

@@ -8,6 +8,7 @@
 // forked reader once waited for good on the allocator's lock (AddressSanitizer's).
 #pragma once
 
+#include <chrono>
 #include <string>
 
 namespace ballpit {
@@ -18,10 +19,19 @@ inline constexpr int kProbeRead = 0;     // assimp read the file
 inline constexpr int kProbeUsage = 2;    // the probe was started wrongly
 inline constexpr int kProbeRefused = 3;  // assimp refused it cleanly (import_model says why)
 
+// How the probe is run: the build's own program unless a test names another, and how long it
+// may read. A minute is far longer than any model the app could animate takes (the Wuson: about
+// 0.1 s, with or without AddressSanitizer); a probe still reading then is stuck, and so would
+// the import be.
+struct ProbeSettings {
+  std::string program;  // empty: this build's ballpit-model-probe
+  std::chrono::milliseconds time_limit{60'000};
+};
+
 // In the importing process: runs the probe on `path` with assimp's post-processing `flags` and
-// throws ballpit::Error naming the file if assimp crashed on it or did not finish within
-// a minute, or if the probe executable is missing.
-void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags);
+// throws ballpit::Error naming the file if assimp crashed on it or did not finish within the
+// time limit, or if the probe program is missing.
+void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags, const ProbeSettings& probe = {});
 
 // In the probe process: assimp reads the file; returns the exit status for it.
 int read_in_probe(const char* path, unsigned flags);

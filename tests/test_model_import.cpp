@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,10 +14,12 @@
 #include <thread>
 #include <vector>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include "engine/error.h"
 #include "engine/model_import.h"
+#include "engine/model_probe.h"
 #include "tests/character_fixture.h"
 
 namespace ballpit {
@@ -236,6 +240,38 @@ TEST(ModelImportErrors, AFileThatCrashesAssimpIsRefusedNotFatal) {
   // "(Segmentation fault)"; under AddressSanitizer, which ends the child itself, "(exit status 1)".
   EXPECT_NE(msg.find("assimp crashed reading it ("), std::string::npos) << msg;
   EXPECT_NE(msg.find("): the file is damaged"), std::string::npos) << msg;
+}
+
+// The probe's deadline, tried with a stand-in probe that never finishes: a script that notes its
+// process id and sleeps.
+TEST(ModelImportErrors, AProbeStillReadingAtItsTimeLimitIsKilledAndTheFileRefused) {
+  TempDir dir;
+  const std::filesystem::path pid_file = dir.path / "pid", stuck = dir.path / "stuck_probe.sh";
+  write(stuck, "#!/bin/sh\necho $$ > '" + pid_file.string() + "'\nexec sleep 30\n");
+  std::filesystem::permissions(stuck, std::filesystem::perms::owner_all);
+  try {
+    refuse_if_it_crashes_assimp(kDefaultModelPath, 0, {stuck.string(), std::chrono::milliseconds(300)});
+    FAIL() << "no error for a probe that never finishes";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(kDefaultModelPath), std::string::npos) << msg;
+    EXPECT_NE(msg.find("did not finish reading it within 0.3 s"), std::string::npos) << msg;
+  }
+  // Killed and reaped, not left sleeping.
+  const pid_t pid = std::stoi(read_all(pid_file.string()));
+  EXPECT_EQ(kill(pid, 0), -1);
+  EXPECT_EQ(errno, ESRCH);
+}
+
+TEST(ModelImportErrors, AMissingProbeIsAnErrorThatNamesIt) {
+  const std::string missing = "/nonexistent/ballpit-model-probe";
+  try {
+    refuse_if_it_crashes_assimp(kDefaultModelPath, 0, {missing});
+    FAIL() << "no error for a missing probe";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("the model probe '" + missing + "' is missing"), std::string::npos) << msg;
+  }
 }
 
 TEST(ModelImportErrors, AMeshWithoutBonesHasNoSkeleton) {
