@@ -14,7 +14,6 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "engine/error.h"
 #include "engine/model_probe.h"
 
 namespace ballpit {
@@ -27,10 +26,6 @@ constexpr double kDefaultTicksPerSecond = 25.0;
 // A weight below this is dropped before normalising: the file's rounding noise, far below any
 // visible influence (1e-6 of a vertex's total).
 constexpr float kNegligibleWeight = 1e-6f;
-
-[[noreturn]] void fail(const std::string& path, const std::string& what) {
-  throw Error("model file '" + path + "': " + what);
-}
 
 Affine3 to_affine(const aiMatrix4x4& m) {
   Mat4 out;
@@ -88,12 +83,12 @@ SkinnedMesh import_mesh(const std::string& path, const aiMesh* m, const Skeleton
   for (unsigned b = 0; b < m->mNumBones; ++b) {
     const aiBone* bone = m->mBones[b];
     int joint = sk.find(bone->mName.C_Str());
-    if (joint < 0) fail(path, "bone '" + std::string(bone->mName.C_Str()) + "' of mesh '" + mesh.name + "' has no node");
+    if (joint < 0) fail_model_file(path, "bone '" + std::string(bone->mName.C_Str()) + "' of mesh '" + mesh.name + "' has no node");
     mesh.bone_joint.push_back(static_cast<std::uint16_t>(joint));
     mesh.inverse_bind.push_back(to_affine(bone->mOffsetMatrix));
     for (unsigned k = 0; k < bone->mNumWeights; ++k) {
       const aiVertexWeight& w = bone->mWeights[k];
-      if (w.mVertexId >= n) fail(path, "mesh '" + mesh.name + "' weights a vertex it does not have");
+      if (w.mVertexId >= n) fail_model_file(path, "mesh '" + mesh.name + "' weights a vertex it does not have");
       if (w.mWeight > kNegligibleWeight) influences[w.mVertexId].push_back({w.mWeight, static_cast<std::uint16_t>(b)});
     }
   }
@@ -119,8 +114,8 @@ SkinnedMesh import_mesh(const std::string& path, const aiMesh* m, const Skeleton
     }
   }
   if (unweighted > 0) {
-    fail(path, "mesh '" + mesh.name + "' has " + std::to_string(unweighted) + " of " + std::to_string(n) +
-                   " vertices with no bone weight (every vertex of a skinned mesh must follow a bone)");
+    fail_model_file(path, "mesh '" + mesh.name + "' has " + std::to_string(unweighted) + " of " + std::to_string(n) +
+                              " vertices with no bone weight (every vertex of a skinned mesh must follow a bone)");
   }
   return mesh;
 }
@@ -176,9 +171,9 @@ Clip import_clip(const aiAnimation* a, std::size_t index, const Skeleton& sk) {
 std::shared_ptr<const Model> import_model(const std::string& path) {
   {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a model file");
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) fail(path, std::string("cannot open it (") + std::strerror(errno) + ")");
+    if (std::filesystem::is_directory(path, ec)) fail_model_file(path, "is a directory, not a model file");
+    std::ifstream readable(path, std::ios::binary);
+    if (!readable) fail_model_file(path, std::string("cannot open it (") + std::strerror(errno) + ")");
   }
   Assimp::Importer importer;
   // Four influences at most (LimitBoneWeights' default), triangles only, and a structural
@@ -187,25 +182,25 @@ std::shared_ptr<const Model> import_model(const std::string& path) {
                          aiProcess_GenSmoothNormals | aiProcess_ValidateDataStructure;
   refuse_if_it_crashes_assimp(path, flags);
   const aiScene* scene = importer.ReadFile(path, flags);
-  if (!scene) fail(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
+  if (!scene) fail_model_file(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
-    fail(path, "assimp read it only partly (the file is incomplete or damaged)");
+    fail_model_file(path, "assimp read it only partly (the file is incomplete or damaged)");
 
   std::unordered_set<std::string> bones;
   for (unsigned i = 0; i < scene->mNumMeshes; ++i)
     for (unsigned b = 0; b < scene->mMeshes[i]->mNumBones; ++b) bones.insert(scene->mMeshes[i]->mBones[b]->mName.C_Str());
   if (bones.empty()) {
-    fail(path, "has no skeleton: none of its " + std::to_string(scene->mNumMeshes) +
-                   " meshes has bones, so nothing can animate it");
+    fail_model_file(path, "has no skeleton: none of its " + std::to_string(scene->mNumMeshes) +
+                              " meshes has bones, so nothing can animate it");
   }
-  if (scene->mNumAnimations == 0) fail(path, "has no animation clips (a character needs at least one)");
+  if (scene->mNumAnimations == 0) fail_model_file(path, "has no animation clips (a character needs at least one)");
 
   auto model = std::make_shared<Model>();
   model->path = path;
   std::unordered_map<const aiNode*, bool> memo;
   has_bone(scene->mRootNode, bones, memo);
   add_joints(scene->mRootNode, -1, bones, memo, model->skeleton);
-  if (model->skeleton.size() > 0xffff) fail(path, "has more joints than the engine indexes (65535)");
+  if (model->skeleton.size() > 0xffff) fail_model_file(path, "has more joints than the engine indexes (65535)");
 
   // Only meshes with bones are skinned; a mesh without bones belongs to no joint and is left out.
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
@@ -220,7 +215,7 @@ std::shared_ptr<const Model> import_model(const std::string& path) {
       model->bind_min = model->bind_min.cwiseMin(p);
       model->bind_max = model->bind_max.cwiseMax(p);
     }
-  if (model->vertex_count() == 0) fail(path, "its skinned meshes have no vertices");
+  if (model->vertex_count() == 0) fail_model_file(path, "its skinned meshes have no vertices");
 
   for (unsigned i = 0; i < scene->mNumAnimations; ++i)
     model->clips.push_back(import_clip(scene->mAnimations[i], i, model->skeleton));

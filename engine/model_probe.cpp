@@ -43,10 +43,6 @@ namespace {
 // The build tree's probe (engine/CMakeLists.txt).
 constexpr const char* kBuiltProbe = BALLPIT_MODEL_PROBE_PATH;
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) {
-  throw Error("model file '" + path + "': " + what);
-}
-
 struct ProbeWait {
   enum { Finished, Running, Lost } state;
   int status = 0;  // waitpid's, when Finished
@@ -71,6 +67,10 @@ ProbeWait wait_until(pid_t child, std::chrono::steady_clock::time_point deadline
 
 }  // namespace
 
+void fail_model_file(const std::string& path, const std::string& what) {
+  throw Error("model file '" + path + "': " + what);
+}
+
 int read_in_probe(const char* path, unsigned flags) {
   Assimp::Importer importer;
   return importer.ReadFile(path, flags) != nullptr ? kProbeRead : kProbeRefused;
@@ -90,8 +90,8 @@ void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags, const 
   const int spawned = posix_spawn(&child, program.c_str(), &quiet, nullptr, argv, environ);
   posix_spawn_file_actions_destroy(&quiet);
   if (spawned == ENOENT || spawned == EACCES) {
-    fail(path, "cannot check it before reading: the model probe '" + program + "' " +
-                   (spawned == ENOENT ? "is missing" : "cannot be run") + " (build the target ballpit-model-probe)");
+    fail_model_file(path, "cannot check it before reading: the model probe '" + program + "' " +
+                              (spawned == ENOENT ? "is missing" : "cannot be run") + " (build the target ballpit-model-probe)");
   }
   if (spawned != 0) return;  // no process to spare (EAGAIN, ENOMEM): import directly, unchecked
 
@@ -102,16 +102,17 @@ void refuse_if_it_crashes_assimp(const std::string& path, unsigned flags, const 
     waitpid(child, nullptr, 0);
     char limit[32];
     std::snprintf(limit, sizeof limit, "%g s", std::chrono::duration<double>(probe.time_limit).count());
-    fail(path, std::string("assimp did not finish reading it within ") + limit +
-                   ": the file is damaged, or too large to animate");
+    fail_model_file(path, std::string("assimp did not finish reading it within ") + limit +
+                              ": the file is damaged, or too large to animate");
   }
   const int s = wait.status;
   if (WIFEXITED(s) && (WEXITSTATUS(s) == kProbeRead || WEXITSTATUS(s) == kProbeRefused)) return;
   if (WIFEXITED(s) && WEXITSTATUS(s) == kProbeUsage) {
-    fail(path, "the model probe '" + program + "' refused how it was started (" + flag_text + " " + path + ")");
+    fail_model_file(path, "the model probe '" + program + "' refused how it was started (" + flag_text + " " + path +
+                              ")");
   }
   const std::string how = WIFSIGNALED(s) ? std::string(strsignal(WTERMSIG(s))) : "exit status " + std::to_string(WEXITSTATUS(s));
-  fail(path, "assimp crashed reading it (" + how + "): the file is damaged");
+  fail_model_file(path, "assimp crashed reading it (" + how + "): the file is damaged");
 }
 
 }  // namespace ballpit

@@ -28,6 +28,10 @@ struct ProbeSettings {
   std::chrono::milliseconds time_limit{60'000};
 };
 
+// Throws ballpit::Error for a model file it refuses: "model file 'PATH': WHAT". The importer
+// and the probe word every refusal so.
+[[noreturn]] void fail_model_file(const std::string& path, const std::string& what);
+
 // In the importing process: runs the probe on `path` with assimp's post-processing `flags` and
 // throws ballpit::Error naming the file if assimp crashed on it or did not finish within the
 // time limit, or if the probe program is missing.
