@@ -42,7 +42,9 @@ def main():
                          "balls inside colliders", "deepest in a collider / r", "top ball speed (m/s)",
                          "escaped", "bytes/sphere"], table))
     out.append("\nThe 'with' median is the mean of the path's two halves' medians (walk and turn; run and "
-               "idle), so both gaits count.\n")
+               "idle), so both gaits count; a shortened path's halves are both from its start (120 steps: "
+               "walking only). 'character systems' is a mean over the path and, run beside the physics on "
+               "the same cores, grows with the physics' load.\n")
     with open(a.md + ".tmp", "w") as f:
         f.write("\n".join(out))
     os.replace(a.md + ".tmp", a.md)
