@@ -41,6 +41,11 @@ class SphereTable {
   // Throws ballpit::Error if e is not a live sphere.
   std::uint32_t row(Entity e) const;
   Entity entity_at(std::uint32_t row) const { return {entity_[row], generation_[row]}; }
+  // The row of the live sphere with this entity index, or kNoRow: for keys that hold an index
+  // alone (the warm-start cache's partners, engine/contact_set.h).
+  std::uint32_t row_of_index(std::uint32_t entity_index) const {
+    return entity_index < row_of_.size() ? row_of_[entity_index] : kNoRow;
+  }
 
   void set_angular(bool enabled);
   bool has_angular() const { return has_angular_; }

@@ -8,7 +8,8 @@
 // substep two guards hold what must hold whatever the contacts did: no sphere is left inside a
 // joint collider, nor a centre past the pit's floor or walls.
 //
-// Reads: radii, inverse masses, sleep, rows, colliders, gravity.
+// Reads: radii, inverse masses, sleep, rows, colliders, gravity, the grid (its last permutation:
+// sleepers keep their warm-start entries with each other, systems/solver.cpp).
 // Writes: positions, velocities, angular velocities, contacts (the warm-start cache).
 //
 // Data: the solver copies the spheres into quads of its own (systems/solver_bodies.h) and packs
@@ -79,6 +80,10 @@ struct SolverScratch {
   std::vector<Contact> serial_pairs;
   BatchList serial;
   std::vector<std::uint32_t> last_batch;
+  // Last step's warm-start cache, set aside while this step's is written (sleepers keep their
+  // entries with each other from it).
+  std::vector<std::uint32_t> previous_warm_begin;
+  std::vector<WarmStartEntry> previous_warm;
 };
 
 // Runs the substeps of one step over world.contacts (found by the narrowphase).

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "engine/metrics.h"
+#include "engine/pour_scene.h"
 #include "tiny_world.h"
 
 using namespace ballpit;
@@ -67,4 +71,64 @@ TEST(Sleeping, ChangingGravityWakesEveryone) {
   EXPECT_FALSE(asleep(s, e));
   s.step(10);
   EXPECT_GT(s.velocity(e).x(), 0.5f);
+}
+
+namespace {
+
+// The canonical pour at 1,000 balls with sleeping on (SCENES.md measures it with sleeping off).
+void sleepy_pour(test::Sim& s) {
+  PourScene scene;
+  scene.spheres = 1000;
+  scene.build(s.world);
+  s.world.solver.sleeping = true;
+  s.start(2);
+}
+
+std::size_t sleepers(const World& w) {
+  auto a = w.spheres.asleep();
+  return static_cast<std::size_t>(std::count(a.begin(), a.end(), std::uint8_t{1}));
+}
+
+}  // namespace
+
+TEST(Sleeping, ASettledPileFallsAsleepWholeAndStaysAtRest) {
+  // Balls that slept one by one inside the pile were fixed bodies that no longer passed on
+  // their weight; waking, they woke their neighbours, and the pour never came to rest (10k
+  // balls, 1,200 steps: 0.25 J and overlaps of 0.12 r left). The pile must end as it does with
+  // sleeping off: all of it asleep, and no overlap beyond 1% r.
+  test::Sim s;
+  sleepy_pour(s);
+  s.step(900);  // 15 s: the pile is at rest long before (sleeping off: 3e-6 J after 20 s at 10k)
+  ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
+  const std::size_t pair_entries = s.world.contacts.warm.size();
+  s.step(120);
+  EXPECT_EQ(sleepers(s.world), s.world.spheres.size()) << "something woke the sleeping pile";
+  // A sleeping pile keeps its loads (the warm-start entries of its pairs), to wake warm.
+  EXPECT_EQ(s.world.contacts.warm.size(), pair_entries);
+  const Metrics m = measure(s.world);
+  EXPECT_LT(m.max_penetration_r, 0.01);
+  EXPECT_EQ(m.kinetic_energy_j, 0.0);
+}
+
+TEST(Sleeping, ASleepingPileStruckByABallWakesAndComesToRestAgain) {
+  // One ball dropped on the sleeping pile wakes the pile it lands on, all of it; woken warm, the
+  // pile takes the blow and settles again instead of boiling.
+  test::Sim s;
+  sleepy_pour(s);
+  s.step(900);
+  ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
+  float top = 0.0f;
+  for (const Vec3& x : s.world.spheres.position()) top = std::max(top, x.y());
+  test::add_ball(s.world, Vec3(0.0f, top + 0.5f, 0.0f));
+  s.step(30);  // falls 0.5 m in about 0.32 s, and lands
+  EXPECT_LT(sleepers(s.world), s.world.spheres.size() / 2) << "the pile it landed on woke";
+  float fastest = 0.0f;
+  for (int k = 0; k < 600; ++k) {
+    s.step();
+    for (const Vec3& v : s.world.spheres.velocity()) fastest = std::max(fastest, v.norm());
+  }
+  // The ball lands at sqrt(2 g 0.5) = 3.1 m/s; nothing in the pile may go faster than that.
+  EXPECT_LT(fastest, 3.2f);
+  EXPECT_EQ(sleepers(s.world), s.world.spheres.size()) << "the pile came to rest and slept again";
+  EXPECT_LT(measure(s.world).max_penetration_r, 0.01);
 }
