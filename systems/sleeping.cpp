@@ -158,6 +158,12 @@ void update_sleep(World& world) {
   // waves. So a pile sleeps once every member has been still for sleep_time, and wakes whole
   // when a member moves (or is woken). A slow member that joins a sleeping pile, a ball that
   // comes to lean on it, does not wake it: it sleeps when its own still time is up.
+  // No pile can fall asleep or wake while no sphere sleeps or has been still long enough: the
+  // piles (a union-find over every loaded pair, 0.3 ms a step at 10k) are not needed then.
+  bool ready_or_asleep = false;
+#pragma omp parallel for schedule(static) reduction(|| : ready_or_asleep)
+  for (std::int64_t i = 0; i < n; ++i) ready_or_asleep = ready_or_asleep || asleep[i] || still[i] >= s.sleep_time;
+  if (!ready_or_asleep) return;
   const Piles piles(world);
   std::vector<std::uint8_t> pile_state(spheres.size(), 0);  // by pile root: kRestless | kMoving
   constexpr std::uint8_t kRestless = 1, kMoving = 2;
