@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "engine/world.h"
@@ -52,6 +53,22 @@ class Piles {
 
   std::vector<std::uint32_t> parent_;
 };
+
+// What each pile's awake members say, by pile root: kRestless, one has not been still for
+// sleep_time; kMoving, one moved this step or was just woken (its still time is 0).
+constexpr std::uint8_t kRestless = 1, kMoving = 2;
+
+std::vector<std::uint8_t> pile_states(const Piles& piles, std::span<const std::uint8_t> asleep,
+                                      std::span<const float> still, float sleep_time) {
+  std::vector<std::uint8_t> state(asleep.size(), 0);
+  for (std::uint32_t i = 0; i < asleep.size(); ++i) {
+    if (asleep[i]) continue;
+    std::uint8_t& pile = state[piles.of(i)];
+    if (still[i] < sleep_time) pile |= kRestless;
+    if (still[i] == 0.0f) pile |= kMoving;
+  }
+  return state;
+}
 
 }  // namespace
 
@@ -105,17 +122,15 @@ void wake_approached(World& world) {
     for (const Contact& c : slabs[k].serial) check(c);
   }
   if (!any_woken) return;
-  // The pile of a woken sphere wakes with it, before the step: woken alone, the sphere would be
-  // driven into neighbours that cannot yield (a ball dropped 0.5 m on a sleeping pile of 1,000
-  // left it overlapping by 0.5 r), and they would wake a few at a time.
+  // The pile of a woken sphere (or of one that moved) wakes with it, before the step: woken
+  // alone, the sphere would be driven into neighbours that cannot yield (a ball dropped 0.5 m on
+  // a sleeping pile of 1,000 left it overlapping by 0.5 r), and they would wake a few at a time.
   const Piles piles(world);
+  const std::vector<std::uint8_t> state = pile_states(piles, asleep, still, world.solver.sleep_time);
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
-  std::vector<std::uint8_t> woken_pile(spheres.size(), 0);  // by pile root
-  for (std::int64_t i = 0; i < n; ++i)
-    if (!asleep[i] && still[i] == 0.0f) woken_pile[piles.of(static_cast<std::uint32_t>(i))] = 1;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i)
-    if (asleep[i] && woken_pile[piles.of(static_cast<std::uint32_t>(i))]) wake_row(asleep[i], still[i]);
+    if (asleep[i] && (state[piles.of(static_cast<std::uint32_t>(i))] & kMoving)) wake_row(asleep[i], still[i]);
 }
 
 void update_sleep(World& world) {
@@ -165,14 +180,7 @@ void update_sleep(World& world) {
   for (std::int64_t i = 0; i < n; ++i) ready_or_asleep = ready_or_asleep || asleep[i] || still[i] >= s.sleep_time;
   if (!ready_or_asleep) return;
   const Piles piles(world);
-  std::vector<std::uint8_t> pile_state(spheres.size(), 0);  // by pile root: kRestless | kMoving
-  constexpr std::uint8_t kRestless = 1, kMoving = 2;
-  for (std::int64_t i = 0; i < n; ++i) {
-    if (asleep[i]) continue;
-    std::uint8_t& state = pile_state[piles.of(static_cast<std::uint32_t>(i))];
-    if (still[i] < s.sleep_time) state |= kRestless;
-    if (still[i] == 0.0f) state |= kMoving;  // moved this step, or was woken
-  }
+  const std::vector<std::uint8_t> pile_state = pile_states(piles, asleep, still, s.sleep_time);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     const std::uint8_t state = pile_state[piles.of(static_cast<std::uint32_t>(i))];
