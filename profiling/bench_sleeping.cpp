@@ -1,4 +1,4 @@
-// The sleep update alone, in its two regimes.
+// The sleep update alone, in its two regimes, and the wake check.
 // - sleeping (awake pit): sleep_time is out of reach, so no sphere is ever ready to sleep: the
 //   wake requests and the stillness clock of every sphere, and the early out that skips the
 //   piles. The cost the system adds to a step while the pit is still moving.
@@ -45,6 +45,14 @@ namespace {
         state.SkipWithError("the pit did not fall asleep whole");
       state.counters["cache_entries"] = static_cast<double>(world.contacts.warm.size());
     });
+
+// The wake check alone on an awake pit: every contact is looked at and nothing wakes (no
+// sphere sleeps), the cost the wake system adds to each step of a pit that is moving.
+[[maybe_unused]] const bool kWake = register_system("wake", [](benchmark::State& state, World& world, std::size_t n) {
+  world.solver.sleeping = true;
+  timed_loop(state, n, [&] { wake_approached(world); });
+  state.counters["contacts"] = static_cast<double>(contact_count(world));
+});
 
 }  // namespace
 }  // namespace ballpit::profiling
