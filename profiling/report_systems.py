@@ -12,7 +12,7 @@ import statistics
 from report_common import machine_line, md_table
 
 NAME = re.compile(r"^(?P<system>[^/]+)/(?P<kind>[^/]+)/n:(?P<n>\d+)/threads:(?P<threads>\d+)")
-SYSTEM_ORDER = ["grid_sort", "grid", "narrowphase", "solver", "solver_one_substep", "integrate", "sleeping", "sleeping_piles", "substep_control"]
+SYSTEM_ORDER = ["grid_sort", "grid", "narrowphase", "solver", "solver_one_substep", "integrate", "sleeping", "sleeping_piles", "wake", "substep_control"]
 TO_MS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 
 
@@ -81,7 +81,8 @@ def main():
            "substeps (integration included); `solver_one_substep` is the same step with one substep, "
            "which splits the solver's cost (table after each world's); `integrate` is one velocity + position update, "
            "which the solver runs once per substep. `sleeping` runs on an awake pit; `sleeping_piles` "
-           "on a still pit falling asleep whole, the steps that build the piles. "
+           "on a still pit falling asleep whole, the steps that build the piles; `wake` is the wake "
+           "check on an awake pit (with sleeping on, every step). "
            "`substep_control` is what `--tolerance` adds per step: the overlap of every contact "
            "and the substep decision.\n",
            machine_line() + (f" Google Benchmark reports library_build_type = {context['library_build_type']} "
