@@ -190,7 +190,7 @@ void update_sleep(World& world) {
   // waves. So a pile sleeps once every member has been still for sleep_time, and wakes whole
   // when a member moves (or is woken). A slow member that joins a sleeping pile, a ball that
   // comes to lean on it, does not wake it: it sleeps when its own still time is up.
-  // The piles (a union-find over every loaded pair: 0.23 ms a step for a settled 10k pile,
+  // The piles (a union-find over every loaded pair: 0.27 ms a step for a settled 10k pile,
   // bench_sleeping) are built only when one may change: a pile falls asleep only if an awake
   // member is ready to (still for sleep_time), and wakes only if a member is awake and moving
   // (its still time is 0) while some sphere sleeps. A pit asleep whole skips them.
