@@ -20,12 +20,15 @@ inline constexpr int kProbeUsage = 2;    // the probe was started wrongly
 inline constexpr int kProbeRefused = 3;  // assimp refused it cleanly (import_model says why)
 
 // How the probe is run: the build's own program unless a test names another, and how long it
-// may read. A minute is far longer than any model the app could animate takes (the Wuson: about
-// 0.1 s, with or without AddressSanitizer); a probe still reading then is stuck, and so would
-// the import be.
+// may read. Four seconds is forty times what the Wuson takes (about 0.1 s, with or without
+// AddressSanitizer); a probe still reading then is stuck or lost in a damaged file, and the
+// import would be too. A minute was too long: fuzzing found a 2.8 KB .X file
+// (tests/fuzz_regressions/model_import/slow_8gb_skin_weights.x) that assimp reads for 23 s,
+// growing to 8.4 GB, before refusing it, and the import then read it again to say why. The
+// limit is under half of the fuzzer's 10 s per input, which a refusal must fit.
 struct ProbeSettings {
   std::string program;  // empty: this build's ballpit-model-probe
-  std::chrono::milliseconds time_limit{60'000};
+  std::chrono::milliseconds time_limit{4'000};
 };
 
 // Throws ballpit::Error for a model file it refuses: "model file 'PATH': WHAT". The importer
