@@ -174,12 +174,19 @@ void update_sleep(World& world) {
   const float dt = world.step();
   const float sleep2 = s.sleep_speed * s.sleep_speed;
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
-#pragma omp parallel for schedule(static)
+  // The clock, and what it says about whether any pile may change (below).
+  bool ready = false, moving = false, sleeper = false;
+#pragma omp parallel for schedule(static) reduction(|| : ready, moving, sleeper)
   for (std::int64_t i = 0; i < n; ++i) {
-    if (asleep[i]) continue;
+    if (asleep[i]) {
+      sleeper = true;
+      continue;
+    }
     float spin = angular ? w[i].squaredNorm() * r[i] * r[i] : 0.0f;
     if (v[i].squaredNorm() < sleep2 && spin < sleep2) still[i] += dt;
     else still[i] = 0.0f;
+    ready = ready || still[i] >= s.sleep_time;
+    moving = moving || still[i] == 0.0f;
   }
 
   // A pile sleeps and wakes as one. A sphere asleep alone in a pile is a fixed body inside it:
@@ -194,13 +201,6 @@ void update_sleep(World& world) {
   // bench_sleeping) are built only when one may change: a pile falls asleep only if an awake
   // member is ready to (still for sleep_time), and wakes only if a member is awake and moving
   // (its still time is 0) while some sphere sleeps. A pit asleep whole skips them.
-  bool ready = false, moving = false, sleeper = false;
-#pragma omp parallel for schedule(static) reduction(|| : ready, moving, sleeper)
-  for (std::int64_t i = 0; i < n; ++i) {
-    sleeper = sleeper || asleep[i];
-    ready = ready || (!asleep[i] && still[i] >= s.sleep_time);
-    moving = moving || (!asleep[i] && still[i] == 0.0f);
-  }
   if (!ready && !(sleeper && moving)) return;
   const Piles piles(world);
   const std::vector<std::uint8_t> pile_state = pile_states(piles, asleep, still, s.sleep_time);
