@@ -2,8 +2,9 @@
 // one, cells are visited in key order, so generator rows come in row order and every list comes
 // out exactly as a row-by-row search would write it. A slow sphere tests the five row ranges of
 // its forward neighbourhood four rows at a time, on columns of floats copied once per step,
-// gathers the rows that pass, then makes their contacts. A fast sphere (rare) searches a wider
-// box one candidate at a time, as the naive reference mode does every sphere.
+// gathers the rows that pass, then makes their contacts. A fast sphere searches a wider box
+// all around with the same test, and keeps the pairs it owns; the naive reference mode tests
+// every sphere against every row one candidate at a time.
 #include "systems/narrowphase.h"
 
 #include <algorithm>
@@ -106,6 +107,25 @@ struct PitPlanes {
       bits |= unsigned(Vec3(nx[p], ny[p], nz[p]).dot(x) - offset[p] - r < m) << p;
 #endif
     return bits & planes;
+  }
+};
+
+// The box a joint collider's segment [a, b] spans, grown by the collider's radius and margin:
+// a sphere centre farther out along any axis than its own radius and margin cannot be within
+// reach of the segment. misses() only says no where the exact test would (the slack covers the
+// rounding of both), and a NaN centre is never missed, so the filter changes no contact.
+struct ColliderBox {
+  Vec3 lo, hi;
+
+  ColliderBox() = default;
+  ColliderBox(const Vec3& a, const Vec3& b, float grow) {
+    const float slack = 1e-3f + 1e-5f * std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
+    lo = a.cwiseMin(b) - Vec3::Constant(grow + slack);
+    hi = a.cwiseMax(b) + Vec3::Constant(grow + slack);
+  }
+
+  bool misses(const Vec3& x, float grow) const {
+    return (x.array() < lo.array() - grow).any() || (x.array() > hi.array() + grow).any();
   }
 };
 
@@ -215,8 +235,7 @@ struct SlabSearch {
     return mj < mi || (mj == mi && j > i);
   }
 
-  // One candidate at a time: the reference mode, and fast spheres (few, and their partners may
-  // lie in any slab).
+  // One candidate at a time: the reference mode.
   void scan_rows(std::uint32_t i, RowRange rows, int slab, SlabContacts& out) const {
     const bool fast_i = fast(i);
     for (std::uint32_t j = rows.begin; j < rows.end; ++j) {
@@ -225,22 +244,27 @@ struct SlabSearch {
     }
   }
 
+  // The flags that rule out a partner of row i before the distance test: asleep if i sleeps
+  // too, and for a slow sphere a fast partner, which records the pair itself (fast_owns).
+  std::uint32_t skipped_partners(std::uint32_t i) const {
+    return (fast(i) ? 0u : kFastRow) | (scratch.flags[i] & kAsleepRow);
+  }
+
   // Sphere i's side of the candidate test, in every lane.
 #if BALLPIT_NARROWPHASE_SSE
   struct Probe {
     __m128 x, y, z, r, m;
-    __m128i skip;  // flags that rule a partner out: fast always, asleep if i sleeps too
+    __m128i skip;  // skipped_partners(i)
   };
-  static Probe probe(const Columns& c, std::uint32_t i) {
-    const std::uint32_t skip = kFastRow | (c.flags[i] & kAsleepRow);
+  Probe probe(const Columns& c, std::uint32_t i) const {
     return {_mm_set1_ps(c.x[i]),      _mm_set1_ps(c.y[i]),      _mm_set1_ps(c.z[i]),
-            _mm_set1_ps(c.radius[i]), _mm_set1_ps(c.margin[i]), _mm_set1_epi32(static_cast<int>(skip))};
+            _mm_set1_ps(c.radius[i]), _mm_set1_ps(c.margin[i]), _mm_set1_epi32(static_cast<int>(skipped_partners(i)))};
   }
 
-  // Bit k set: the slow sphere owns a pair with row j + k that touches soon. The arithmetic is
+  // Bit k set: row j + k is not skipped and touches sphere i soon. The arithmetic is
   // touching_soon's, lane by lane and in its order (Eigen sums a squared norm of three as
   // x + (y + z); no FMA), so the same pairs pass to the last bit.
-  static unsigned slow_hits(const Columns& c, const Probe& p, std::uint32_t j) {
+  static unsigned hits(const Columns& c, const Probe& p, std::uint32_t j) {
     const __m128 dx = _mm_sub_ps(_mm_loadu_ps(c.x + j), p.x);
     const __m128 dy = _mm_sub_ps(_mm_loadu_ps(c.y + j), p.y);
     const __m128 dz = _mm_sub_ps(_mm_loadu_ps(c.z + j), p.z);
@@ -254,30 +278,30 @@ struct SlabSearch {
   }
 #else
   struct Probe {
-    std::uint32_t i;
+    std::uint32_t i, skip;
   };
-  static Probe probe(const Columns&, std::uint32_t i) { return {i}; }
-  unsigned slow_hits(const Columns&, const Probe& p, std::uint32_t j) const {
-    unsigned hits = 0;
+  Probe probe(const Columns&, std::uint32_t i) const { return {i, skipped_partners(i)}; }
+  unsigned hits(const Columns&, const Probe& p, std::uint32_t j) const {
+    unsigned passed = 0;
     for (std::uint32_t k = 0; k < kLanes && j + k < x.size(); ++k)
-      hits |= unsigned(!fast(j + k) && touching_soon(p.i, j + k)) << k;
-    return hits;
+      passed |= unsigned(!(scratch.flags[j + k] & p.skip) && touching_soon(p.i, j + k)) << k;
+    return passed;
   }
 #endif
 
-  // Writes the rows of `rows` that pass to `hits`, in order, and returns the end of what it
+  // Writes the rows of `rows` that pass to `out`, in order, and returns the end of what it
   // wrote. About one candidate in seven passes, at no predictable place, so nothing here
   // branches on the test: every lane is written, and the end moves past the passing ones only.
   // A row's slot is thus written no later than its own turn. Lanes past the range's end read
   // the scratch padding and are masked off.
-  std::uint32_t* gather(const Columns& c, const Probe& p, RowRange rows, std::uint32_t* hits) const {
+  std::uint32_t* gather(const Columns& c, const Probe& p, RowRange rows, std::uint32_t* out) const {
     for (std::uint32_t j = rows.begin; j < rows.end; j += kLanes) {
       const std::uint32_t lanes = std::min(rows.end - j, kLanes);
-      const unsigned passed = slow_hits(c, p, j) & (0xFu >> (kLanes - lanes));
-      for (std::uint32_t k = 0; k < kLanes; ++k) hits[k] = j + kPassedLanes[passed][k];
-      hits += kPassedCount[passed];
+      const unsigned passed = hits(c, p, j) & (0xFu >> (kLanes - lanes));
+      for (std::uint32_t k = 0; k < kLanes; ++k) out[k] = j + kPassedLanes[passed][k];
+      out += kPassedCount[passed];
     }
-    return hits;
+    return out;
   }
 
   // The contacts of the rows [passed, end) that passed the slow sphere's test. Its partners lie
@@ -321,7 +345,7 @@ struct SlabSearch {
     if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
     for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
       if (fast(i)) {
-        wide_pairs(i, cx, cy, cz, slab, out);
+        wide_pairs(c, i, cx, cy, cz, slab, passed, out);
         continue;
       }
       const Probe p = probe(c, i);
@@ -332,8 +356,12 @@ struct SlabSearch {
     }
   }
 
-  // A fast sphere searches every cell its reach may touch, all around.
-  void wide_pairs(std::uint32_t i, int cx, int cy, int cz, int slab, SlabContacts& out) const {
+  // A fast sphere searches every cell its reach may touch, all around, with the slow spheres'
+  // test, which passes it fast partners too, and records the pairs it owns. Its partners may lie
+  // in any slab. (One candidate at a time, a 100k pit with a running character spent half its
+  // search on the few thousand balls the character flung.)
+  void wide_pairs(const Columns& c, std::uint32_t i, int cx, int cy, int cz, int slab,
+                  std::vector<std::uint32_t>& passed, SlabContacts& out) const {
     float reach = r[i] + grid.max_radius + 2.0f * scratch.margin[i];
     // A margin can be huge or infinite (a state of 1e19 m/s, a step of 1e30 s): clamp in float,
     // before converting, since no search needs more cells than the grid has along an axis.
@@ -344,8 +372,15 @@ struct SlabSearch {
     int x0 = std::max(cx - span, 0), x1 = std::min(cx + span, grid.nx - 1);
     int z0 = std::max(cz - span, 0), z1 = std::min(cz + span, grid.nz - 1);
     int y0 = std::max(cy - span, 0), y1 = std::min(cy + span, grid.ny - 1);
+    const Probe p = probe(c, i);
     for (int ax = x0; ax <= x1; ++ax)
-      for (int az = z0; az <= z1; ++az) scan_rows(i, column(ax, y0, y1, az), slab, out);
+      for (int az = z0; az <= z1; ++az) {
+        const RowRange rows = column(ax, y0, y1, az);
+        if (passed.size() < rows.end - rows.begin + kLanes) passed.resize(rows.end - rows.begin + kLanes);
+        const std::uint32_t* end = gather(c, p, rows, passed.data());
+        for (const std::uint32_t* j = passed.data(); j < end; ++j)
+          if (fast_owns(i, *j)) add_pair(i, *j, slab, out);
+      }
   }
 
   // Cell by cell in key order, so rows in row order.
@@ -436,7 +471,8 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   for (std::size_t a = 0; a < mc; ++a) pit_material[a] = combine(world.materials[a], world.pit.material);
 
   // Joint colliders: the box around all of them (grown by the widest reach) filters spheres
-  // cheaply; only spheres inside test each collider.
+  // cheaply, and each collider's own box filters the spheres inside that; only the spheres in
+  // a collider's box test its segment.
   const ColliderTable& colliders = world.colliders;
   auto ca = colliders.a();
   auto cb = colliders.b();
@@ -444,12 +480,14 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   auto cva = colliders.velocity_a();
   auto cvb = colliders.velocity_b();
   std::vector<float> collider_margin(colliders.size());
+  std::vector<ColliderBox> collider_box(colliders.size());
   Vec3 box_lo = Vec3::Constant(1e30f), box_hi = Vec3::Constant(-1e30f);
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     collider_margin[c] = std::max(cva[c].norm(), cvb[c].norm()) * dt;
     float grow = cr[c] + collider_margin[c];
     box_lo = box_lo.cwiseMin(ca[c].cwiseMin(cb[c]) - Vec3::Constant(grow));
     box_hi = box_hi.cwiseMax(ca[c].cwiseMax(cb[c]) + Vec3::Constant(grow));
+    collider_box[c] = ColliderBox(ca[c], cb[c], grow);
   }
 
   const Pit& pit = world.pit;
@@ -508,6 +546,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
         const float grow = m + ri;
         if ((xi.array() < box_lo.array() - grow).any() || (xi.array() > box_hi.array() + grow).any()) continue;
         for (std::size_t c = 0; c < colliders.size(); ++c) {
+          if (collider_box[c].misses(xi, grow)) continue;
           float t = closest_segment_parameter(ca[c], cb[c], xi);
           Vec3 q = ca[c] + t * (cb[c] - ca[c]);
           float reach = ri + cr[c] + m + collider_margin[c];
