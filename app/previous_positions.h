@@ -21,6 +21,7 @@ class PreviousPositions final : public System {
   std::string_view name() const override { return "previous positions"; }
   Access access() const override;
   void run(World& world) override;
+  bool data_parallel() const override { return true; }
 
   // Position before the latest step, by entity index. Entries for entities created since that
   // step are stale; valid() says whether the whole snapshot matches the world.

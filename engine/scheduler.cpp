@@ -19,6 +19,7 @@ Scheduler::~Scheduler() {
 
 System& Scheduler::add(std::unique_ptr<System> system) {
   accesses_.push_back(system->access());
+  data_parallel_.push_back(system->data_parallel());
   systems_.push_back(std::move(system));
   graph_dirty_ = true;
   return *systems_.back();
@@ -27,6 +28,7 @@ System& Scheduler::add(std::unique_ptr<System> system) {
 void Scheduler::clear() {
   systems_.clear();
   accesses_.clear();
+  data_parallel_.clear();
   graph_dirty_ = true;
 }
 
@@ -56,11 +58,27 @@ void Scheduler::run_one(std::size_t i, World& world) {
   profiler_.record(std::string(s.name()), start, Profiler::Clock::now());
 }
 
-// Runs one ready system if there is one; called with the lock held, returns with it held.
-bool Scheduler::execute_ready(std::unique_lock<std::mutex>& lock) {
-  if (ready_.empty() || error_) return false;
-  std::size_t i = ready_.back();
-  ready_.pop_back();
+// Where in ready_ the system this thread takes next lies, ready_.size() if none: the latest
+// one it may run, and for the caller's thread a data-parallel one first, which no worker may
+// take.
+std::size_t Scheduler::next_ready(bool caller) const {
+  std::size_t any = ready_.size();
+  for (std::size_t k = ready_.size(); k-- > 0;) {
+    const bool parallel = data_parallel_[ready_[k]];
+    if (caller && parallel) return k;
+    if (!parallel && any == ready_.size()) any = k;
+  }
+  return any;
+}
+
+// Runs one ready system if there is one this thread may run; called with the lock held,
+// returns with it held.
+bool Scheduler::execute_ready(std::unique_lock<std::mutex>& lock, bool caller) {
+  if (error_) return false;
+  const std::size_t k = next_ready(caller);
+  if (k == ready_.size()) return false;
+  std::size_t i = ready_[k];
+  ready_.erase(ready_.begin() + static_cast<std::ptrdiff_t>(k));
   ++running_;
   lock.unlock();
   std::exception_ptr failure;
@@ -78,19 +96,20 @@ bool Scheduler::execute_ready(std::unique_lock<std::mutex>& lock) {
     for (std::size_t j : successors_[i])
       if (--waiting_on_[j] == 0) ready_.push_back(j);
   }
-  // This thread takes the next ready system itself: wake the others only for more than that, and
-  // run_frame's caller only if it sleeps. A chain of dependent systems (the pit's grid,
-  // narrowphase and solver) then wakes no thread.
-  if (ready_.size() > 1 || ((unfinished_ == 0 || error_) && caller_waiting_)) wake_.notify_all();
+  // This thread takes the next ready system it may run itself: wake the others only for more
+  // than that, and run_frame's caller only if it sleeps. A chain of dependent systems (the pit's
+  // grid, narrowphase and solver) then wakes no thread.
+  const std::size_t left_for_others = ready_.size() - (next_ready(caller) < ready_.size() ? 1 : 0);
+  if (left_for_others > 0 || ((unfinished_ == 0 || error_) && caller_waiting_)) wake_.notify_all();
   return true;
 }
 
 void Scheduler::worker_loop() {
   std::unique_lock lock(mutex_);
   while (true) {
-    wake_.wait(lock, [&] { return stop_workers_ || (world_ && !ready_.empty() && !error_); });
+    wake_.wait(lock, [&] { return stop_workers_ || (world_ && !error_ && next_ready(false) < ready_.size()); });
     if (stop_workers_) return;
-    execute_ready(lock);
+    execute_ready(lock, false);
   }
 }
 
@@ -113,7 +132,7 @@ void Scheduler::run_frame(World& world) {
     ++frame_id_;
     if (ready_.size() > 1) wake_.notify_all();  // one ready system: this thread runs it
     while (true) {
-      if (execute_ready(lock)) continue;
+      if (execute_ready(lock, true)) continue;
       if (unfinished_ == 0 || (error_ && running_ == 0)) break;
       caller_waiting_ = true;
       wake_.wait(lock);

@@ -17,6 +17,9 @@ class System {
   virtual std::string_view name() const = 0;
   virtual Access access() const = 0;
   virtual void run(World& world) = 0;
+  // Whether run() starts OpenMP parallel loops. The scheduler runs such a system on the thread
+  // that calls run_frame, never on a worker (engine/scheduler.h).
+  virtual bool data_parallel() const { return false; }
 };
 
 }  // namespace ballpit

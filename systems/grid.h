@@ -37,6 +37,7 @@ class GridSystem : public System {
   std::string_view name() const override { return "grid"; }
   Access access() const override;
   void run(World& world) override;
+  bool data_parallel() const override { return true; }
 
  private:
   GridScratch scratch_;

@@ -37,6 +37,7 @@ class IntegrateSystem : public System {
   std::string_view name() const override { return "integrate"; }
   Access access() const override;
   void run(World& world) override;
+  bool data_parallel() const override { return true; }
 };
 
 }  // namespace ballpit

@@ -51,6 +51,7 @@ class NarrowphaseSystem : public System {
   std::string_view name() const override { return "narrowphase"; }
   Access access() const override;
   void run(World& world) override { find_contacts(world, scratch_); }
+  bool data_parallel() const override { return true; }
 
  private:
   NarrowphaseScratch scratch_;

@@ -34,6 +34,7 @@ class WakeSystem : public System {
   std::string_view name() const override { return "wake"; }
   Access access() const override;
   void run(World& world) override;
+  bool data_parallel() const override { return true; }
 
  private:
   NarrowphaseScratch scratch_;  // for the second search
@@ -44,6 +45,7 @@ class SleepSystem : public System {
   std::string_view name() const override { return "sleeping"; }
   Access access() const override;
   void run(World& world) override { update_sleep(world); }
+  bool data_parallel() const override { return true; }
 };
 
 }  // namespace ballpit

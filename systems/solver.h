@@ -95,6 +95,7 @@ class SolverSystem : public System {
   std::string_view name() const override { return "solver"; }
   Access access() const override;
   void run(World& world) override { solve_contacts(world, scratch_); }
+  bool data_parallel() const override { return true; }
 
  private:
   SolverScratch scratch_;

@@ -85,6 +85,7 @@ class SubstepControlSystem : public System {
   std::string_view name() const override { return "substep_control"; }
   Access access() const override;
   void run(World& world) override;
+  bool data_parallel() const override { return true; }
 
   const SubstepControlStats& stats() const { return stats_; }
   // Forgets the statistics (not the controller's state): the runner calls it when the timed

@@ -19,16 +19,18 @@ namespace {
 
 class FnSystem : public System {
  public:
-  FnSystem(std::string name, Access access, std::function<void(World&)> fn)
-      : name_(std::move(name)), access_(access), fn_(std::move(fn)) {}
+  FnSystem(std::string name, Access access, std::function<void(World&)> fn, bool data_parallel = false)
+      : name_(std::move(name)), access_(access), fn_(std::move(fn)), data_parallel_(data_parallel) {}
   std::string_view name() const override { return name_; }
   Access access() const override { return access_; }
   void run(World& w) override { fn_(w); }
+  bool data_parallel() const override { return data_parallel_; }
 
  private:
   std::string name_;
   Access access_;
   std::function<void(World&)> fn_;
+  bool data_parallel_;
 };
 
 Access reads(ColumnSet r) { return {r, {}}; }
@@ -83,6 +85,39 @@ TEST(Scheduler, IndependentSystemsOverlapInTime) {
   s.add(std::make_unique<FnSystem>("b", writes({ColumnId::SphereColor}), rendezvous));
   s.run_frame(world);
   EXPECT_EQ(saw_both.load(), 2);
+}
+
+// A data-parallel system (one that runs OpenMP loops) runs on run_frame's thread only, whichever
+// thread made it ready, while the workers still take the other systems beside it. The graph: two
+// serial systems ready at the start, one of them beside a data-parallel one and one before a
+// second data-parallel one, which the worker that finishes its predecessor must leave to the
+// caller's thread (and wake it for).
+TEST(Scheduler, DataParallelSystemsRunOnTheCallersThreadAndOthersBesideThem) {
+  World world;
+  Scheduler s(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::mutex m;
+  std::vector<std::thread::id> parallel_threads;
+  std::atomic<int> serial_on_worker{0};
+  auto parallel = [&](World&) {
+    std::lock_guard lock(m);
+    parallel_threads.push_back(std::this_thread::get_id());
+  };
+  auto serial = [&](World&) {
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    if (std::this_thread::get_id() != caller) ++serial_on_worker;
+  };
+  s.add(std::make_unique<FnSystem>("serial_a", writes({ColumnId::SphereColor}), serial));
+  s.add(std::make_unique<FnSystem>("parallel_x", writes({ColumnId::SpherePosition}), parallel, true));
+  s.add(std::make_unique<FnSystem>("serial_b", writes({ColumnId::Colliders}), serial));
+  s.add(std::make_unique<FnSystem>("parallel_after_b", Access{{ColumnId::Colliders}, {ColumnId::SphereVelocity}},
+                                   parallel, true));
+  const int frames = 200;
+  for (int frame = 0; frame < frames; ++frame) s.run_frame(world);
+  ASSERT_EQ(parallel_threads.size(), 2u * frames);
+  for (const std::thread::id& id : parallel_threads) EXPECT_EQ(id, caller);
+  // The caller takes a data-parallel system first, so a worker takes the serial ones most frames.
+  EXPECT_GT(serial_on_worker.load(), frames / 2);
 }
 
 TEST(Scheduler, AnExceptionInASystemReachesTheCallerAndLaterSystemsDoNotRun) {
