@@ -113,15 +113,21 @@ struct PitPlanes {
 // The box a joint collider's segment [a, b] spans, grown by the collider's radius and margin:
 // a sphere centre farther out along any axis than its own radius and margin cannot be within
 // reach of the segment. misses() only says no where the exact test would (the slack covers the
-// rounding of both), and a NaN centre is never missed, so the filter changes no contact.
+// rounding of both), and a NaN centre is never missed, so the filter changes no contact. A
+// default box is empty; add() grows it around another.
 struct ColliderBox {
-  Vec3 lo, hi;
+  Vec3 lo = Vec3::Constant(1e30f), hi = Vec3::Constant(-1e30f);
 
   ColliderBox() = default;
   ColliderBox(const Vec3& a, const Vec3& b, float grow) {
     const float slack = 1e-3f + 1e-5f * std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
     lo = a.cwiseMin(b) - Vec3::Constant(grow + slack);
     hi = a.cwiseMax(b) + Vec3::Constant(grow + slack);
+  }
+
+  void add(const ColliderBox& other) {
+    lo = lo.cwiseMin(other.lo);
+    hi = hi.cwiseMax(other.hi);
   }
 
   bool misses(const Vec3& x, float grow) const {
@@ -470,9 +476,8 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   std::vector<Material> pit_material(mc);
   for (std::size_t a = 0; a < mc; ++a) pit_material[a] = combine(world.materials[a], world.pit.material);
 
-  // Joint colliders: the box around all of them (grown by the widest reach) filters spheres
-  // cheaply, and each collider's own box filters the spheres inside that; only the spheres in
-  // a collider's box test its segment.
+  // Joint colliders: the box around all of them filters spheres cheaply, and each collider's own
+  // box filters the spheres inside that; only the spheres in a collider's box test its segment.
   const ColliderTable& colliders = world.colliders;
   auto ca = colliders.a();
   auto cb = colliders.b();
@@ -481,13 +486,11 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   auto cvb = colliders.velocity_b();
   std::vector<float> collider_margin(colliders.size());
   std::vector<ColliderBox> collider_box(colliders.size());
-  Vec3 box_lo = Vec3::Constant(1e30f), box_hi = Vec3::Constant(-1e30f);
+  ColliderBox all_colliders;
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     collider_margin[c] = std::max(cva[c].norm(), cvb[c].norm()) * dt;
-    float grow = cr[c] + collider_margin[c];
-    box_lo = box_lo.cwiseMin(ca[c].cwiseMin(cb[c]) - Vec3::Constant(grow));
-    box_hi = box_hi.cwiseMax(ca[c].cwiseMax(cb[c]) + Vec3::Constant(grow));
-    collider_box[c] = ColliderBox(ca[c], cb[c], grow);
+    collider_box[c] = ColliderBox(ca[c], cb[c], cr[c] + collider_margin[c]);
+    all_colliders.add(collider_box[c]);
   }
 
   const Pit& pit = world.pit;
@@ -544,7 +547,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
         if (colliders.size() == 0) continue;
         // The sphere's own radius counts too: a centre just outside the box may still touch.
         const float grow = m + ri;
-        if ((xi.array() < box_lo.array() - grow).any() || (xi.array() > box_hi.array() + grow).any()) continue;
+        if (all_colliders.misses(xi, grow)) continue;
         for (std::size_t c = 0; c < colliders.size(); ++c) {
           if (collider_box[c].misses(xi, grow)) continue;
           float t = closest_segment_parameter(ca[c], cb[c], xi);

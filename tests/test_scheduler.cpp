@@ -104,7 +104,7 @@ TEST(Scheduler, DataParallelSystemsRunOnTheCallersThreadAndOthersBesideThem) {
     parallel_threads.push_back(std::this_thread::get_id());
   };
   auto serial = [&](World&) {
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));  // time for a worker to wake and take the other
     if (std::this_thread::get_id() != caller) ++serial_on_worker;
   };
   s.add(std::make_unique<FnSystem>("serial_a", writes({ColumnId::SphereColor}), serial));
