@@ -180,8 +180,9 @@ std::shared_ptr<const Model> import_model(const std::string& path) {
   // check so a damaged file is rejected by assimp rather than read half-way.
   const unsigned flags = aiProcess_Triangulate | aiProcess_LimitBoneWeights | aiProcess_JoinIdenticalVertices |
                          aiProcess_GenSmoothNormals | aiProcess_ValidateDataStructure;
-  refuse_if_it_crashes_assimp(path, flags);
+  refuse_unless_assimp_reads_it(path, flags);
   const aiScene* scene = importer.ReadFile(path, flags);
+  // Where no probe could run (no process to spare), assimp's refusal is learnt here.
   if (!scene) fail_model_file(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
     fail_model_file(path, "assimp read it only partly (the file is incomplete or damaged)");

@@ -250,7 +250,7 @@ TEST(ModelImportErrors, AProbeStillReadingAtItsTimeLimitIsKilledAndTheFileRefuse
   write(stuck, "#!/bin/sh\necho $$ > '" + pid_file.string() + "'\nexec sleep 30\n");
   std::filesystem::permissions(stuck, std::filesystem::perms::owner_all);
   try {
-    refuse_if_it_crashes_assimp(kDefaultModelPath, 0, {stuck.string(), std::chrono::milliseconds(300)});
+    refuse_unless_assimp_reads_it(kDefaultModelPath, 0, {stuck.string(), std::chrono::milliseconds(300)});
     FAIL() << "no error for a probe that never finishes";
   } catch (const Error& e) {
     const std::string msg = e.what();
@@ -263,10 +263,47 @@ TEST(ModelImportErrors, AProbeStillReadingAtItsTimeLimitIsKilledAndTheFileRefuse
   EXPECT_EQ(errno, ESRCH);
 }
 
+// A refusal is reported with the message the probe got from assimp, so the importer need not
+// read the file again to learn it: a stand-in probe refuses the good Wuson with its own reason,
+// and that reason, not a successful read, is what the caller gets.
+TEST(ModelImportErrors, ARefusalCarriesTheProbesMessageAndTheFileIsNotReadAgain) {
+  TempDir dir;
+  const std::filesystem::path refusing = dir.path / "refusing_probe.sh";
+  write(refusing, "#!/bin/sh\nprintf 'the stand-in refused it'\nexit " + std::to_string(kProbeRefused) + "\n");
+  std::filesystem::permissions(refusing, std::filesystem::perms::owner_all);
+  try {
+    refuse_unless_assimp_reads_it(kDefaultModelPath, 0, {refusing.string()});
+    FAIL() << "no error for a refused file";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(std::string(kDefaultModelPath) + "': assimp cannot read it: the stand-in refused it"), std::string::npos)
+        << msg;
+  }
+}
+
+// The probe's address space is capped: this fuzz-found file makes assimp grow to 8.4 GB before
+// it refuses it. Under a 256 MB cap the real probe gives up within a second or so instead of
+// swelling until the time limit.
+TEST(ModelImportErrors, AFileThatSwellsAssimpPastTheProbesMemoryLimitIsRefused) {
+  if (!probe_limits_memory()) GTEST_SKIP() << "sanitizer build: the probe runs without a memory limit";
+  const std::string path = std::string(BALLPIT_SOURCE_DIR) + "/tests/fuzz_regressions/model_import/slow_8gb_skin_weights.x";
+  ProbeSettings probe;
+  probe.memory_limit_mb = 256;
+  try {
+    refuse_unless_assimp_reads_it(path, 0, probe);
+    FAIL() << "no error for a file that needs gigabytes";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path + "': assimp needed more than 256 MB to read it"), std::string::npos) << msg;
+  }
+  // The Wuson reads within the same cap.
+  EXPECT_NO_THROW(refuse_unless_assimp_reads_it(kDefaultModelPath, 0, probe));
+}
+
 TEST(ModelImportErrors, AMissingProbeIsAnErrorThatNamesIt) {
   const std::string missing = "/nonexistent/ballpit-model-probe";
   try {
-    refuse_if_it_crashes_assimp(kDefaultModelPath, 0, {missing});
+    refuse_unless_assimp_reads_it(kDefaultModelPath, 0, {missing});
     FAIL() << "no error for a missing probe";
   } catch (const Error& e) {
     const std::string msg = e.what();
