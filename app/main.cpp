@@ -1,8 +1,10 @@
 // ballpit: the command line. With no subcommand it opens the interactive pit (or, with
 // --screenshot, renders offscreen); `ballpit run` is the headless runner. See --help.
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include "app/gl_context.h"
 #include "app/headless_run.h"
@@ -14,6 +16,20 @@ namespace {
 
 // Where `ballpit` with no arguments writes its screenshot when there is no display.
 constexpr const char* kFallbackScreenshot = "ballpit.png";
+
+// A count of at least one. (CLI::PositiveNumber's refusal spelt out the largest double, all
+// 309 digits of it, as the end of its range.)
+const CLI::Validator kPositiveCount(
+    [](std::string& text) {
+      long long value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error == std::errc::result_out_of_range && !text.starts_with('-'))
+        return "expected a whole number of at least 1, got '" + text + "', which is far too large";
+      if (error != std::errc{} || end != text.data() + text.size() || value < 1)
+        return "expected a whole number of at least 1, got '" + text + "'";
+      return std::string{};
+    },
+    "POSITIVE");
 
 }  // namespace
 
@@ -36,7 +52,7 @@ int main(int argc, char** argv) {
                  "With a scene file: override one of its fields, e.g. --set character.control=player (repeatable)");
   app.add_option("--spheres", view.session.spheres,
                  "Number of balls (default: the scene's; play 40000, pour 10000; a file's first population)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositiveCount);
   CLI::Option* colliders = app.add_option("--colliders", collider_kind, "Joint colliders: 'capsules' or 'spheres'")
                                ->capture_default_str()
                                ->check(CLI::IsMember({"capsules", "spheres"}));
@@ -54,7 +70,7 @@ int main(int argc, char** argv) {
                                        "With --screenshot: frames before the shot (one 1/60 s step each); "
                                        "with a window: close after this many frames")
                             ->capture_default_str()
-                            ->check(CLI::PositiveNumber);
+                            ->check(kPositiveCount);
   app.add_option("--samples", view.samples, "Multisamples for the screenshot")->capture_default_str()->check(CLI::Range(1, 16));
   app.add_flag("!--no-ui", view.ui, "Leave the HUD out of the screenshot");
 
@@ -64,8 +80,8 @@ int main(int argc, char** argv) {
   cmd->add_flag("--headless", headless, "No window at all (always the case for `run`; accepted for clarity)");
   cmd->add_option("--scene", run.scene, "Scene to run (pour, pit-character) or a scene file (.json, see scenes/)")
       ->capture_default_str();
-  cmd->add_option("--spheres", run.spheres, "Number of spheres N")->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--steps", run.steps, "Fixed steps to run (1/60 s each)")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--spheres", run.spheres, "Number of spheres N")->capture_default_str()->check(kPositiveCount);
+  cmd->add_option("--steps", run.steps, "Fixed steps to run (1/60 s each)")->capture_default_str()->check(kPositiveCount);
   cmd->add_option("--threads", run.threads, "Worker threads (OpenMP and scheduler)")
       ->capture_default_str()
       ->check(CLI::Range(1, 256));
