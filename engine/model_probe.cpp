@@ -47,15 +47,16 @@ void aiAssertViolation(const char* expression, const char* file, int line) {
 #define BALLPIT_SANITIZED 1
 #endif
 #endif
+
+namespace ballpit {
+
+namespace {
+
 #ifdef BALLPIT_SANITIZED
 constexpr bool kSanitized = true;
 #else
 constexpr bool kSanitized = false;
 #endif
-
-namespace ballpit {
-
-namespace {
 
 // The build tree's probe (engine/CMakeLists.txt).
 constexpr const char* kBuiltProbe = BALLPIT_MODEL_PROBE_PATH;
