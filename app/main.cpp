@@ -23,10 +23,9 @@ const CLI::Validator kPositiveCount(
     [](std::string& text) {
       long long value = 0;
       const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-      if (error == std::errc::result_out_of_range && !text.starts_with('-'))
-        return "expected a whole number of at least 1, got '" + text + "', which is far too large";
-      if (error != std::errc{} || end != text.data() + text.size() || value < 1)
-        return "expected a whole number of at least 1, got '" + text + "'";
+      const std::string refusal = "expected a whole number of at least 1, got '" + text + "'";
+      if (error == std::errc::result_out_of_range && !text.starts_with('-')) return refusal + ", which is far too large";
+      if (error != std::errc{} || end != text.data() + text.size() || value < 1) return refusal;
       return std::string{};
     },
     "POSITIVE");
