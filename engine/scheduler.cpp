@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include <omp.h>
+
 namespace ballpit {
 
 Scheduler::Scheduler(int concurrency) {
@@ -105,6 +107,9 @@ bool Scheduler::execute_ready(std::unique_lock<std::mutex>& lock, bool caller) {
 }
 
 void Scheduler::worker_loop() {
+  // A system that runs OpenMP loops without saying so (data_parallel) runs them on this thread
+  // alone: slower than declared, but never a second team spinning beside the caller's.
+  omp_set_num_threads(1);
   std::unique_lock lock(mutex_);
   while (true) {
     wake_.wait(lock, [&] { return stop_workers_ || (world_ && !error_ && next_ready(false) < ready_.size()); });

@@ -11,7 +11,8 @@
 // team while the caller's team, fresh from the grid, spun beside it: four busy threads on two
 // cores. The 100k pit-character's solver took 33.5 ms a step; on the caller's thread alone,
 // 30.4 (600 steps, 2 threads). The workers take the systems without such loops (the
-// character's) alongside.
+// character's) alongside, and a worker's own parallel loops, should an undeclared system start
+// any, run one thread.
 #pragma once
 
 #include <condition_variable>

@@ -18,7 +18,8 @@ class System {
   virtual Access access() const = 0;
   virtual void run(World& world) = 0;
   // Whether run() starts OpenMP parallel loops. The scheduler runs such a system on the thread
-  // that calls run_frame, never on a worker (engine/scheduler.h).
+  // that calls run_frame, never on a worker (engine/scheduler.h); one that does not say so
+  // may run on a worker, whose loops run one thread.
   virtual bool data_parallel() const { return false; }
 };
 

@@ -2,6 +2,7 @@
 // may run at once, errors reach the caller, and (debug builds) undeclared access is caught.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -11,6 +12,7 @@
 
 #include "engine/error.h"
 #include "engine/scheduler.h"
+#include "engine/thread_share.h"
 #include "engine/world.h"
 
 using namespace ballpit;
@@ -118,6 +120,51 @@ TEST(Scheduler, DataParallelSystemsRunOnTheCallersThreadAndOthersBesideThem) {
   for (const std::thread::id& id : parallel_threads) EXPECT_EQ(id, caller);
   // The caller takes a data-parallel system first, so a worker takes the serial ones most frames.
   EXPECT_GT(serial_on_worker.load(), frames / 2);
+}
+
+// A system that starts OpenMP loops without declaring it (data_parallel) must not start a
+// second team on a worker, beside the caller's: a worker runs its loops on one thread. The
+// process's default team must be larger for this to show (the name's ending has ctest run it
+// with OMP_NUM_THREADS=2, tests/CMakeLists.txt).
+TEST(Scheduler, AWorkerRunsAnUndeclaredSystemsOpenMPLoopsOnOneThread_UnderTwoOpenMPThreads) {
+  const int default_team = [] {
+    int team = 0;
+    std::thread([&] { team = omp_get_max_threads(); }).join();
+    return team;
+  }();
+  if (default_team < 2) GTEST_SKIP() << "needs a default OpenMP team of 2 or more (OMP_NUM_THREADS=" << default_team << ")";
+  World world;
+  Scheduler s(2);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<bool> undeclared_started{false};
+  std::atomic<int> caller_team{0}, worker_team{0}, worker_runs{0};
+  // The caller takes the declared system first and holds it until the other has started, so a
+  // worker runs the undeclared one.
+  auto declared = [&](World&) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (!undeclared_started && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+#pragma omp parallel
+#pragma omp single
+    caller_team = omp_get_num_threads();
+  };
+  auto undeclared = [&](World&) {
+    undeclared_started = true;
+    if (std::this_thread::get_id() == caller) return;
+    ++worker_runs;
+#pragma omp parallel
+#pragma omp single
+    worker_team = std::max(worker_team.load(), omp_get_num_threads());
+  };
+  s.add(std::make_unique<FnSystem>("declared", writes({ColumnId::SpherePosition}), declared, true));
+  s.add(std::make_unique<FnSystem>("undeclared", writes({ColumnId::SphereColor}), undeclared));
+  const TeamSize team(2);
+  for (int frame = 0; frame < 20; ++frame) {
+    undeclared_started = false;
+    s.run_frame(world);
+  }
+  ASSERT_GT(worker_runs.load(), 0);
+  EXPECT_EQ(caller_team.load(), 2);
+  EXPECT_EQ(worker_team.load(), 1);
 }
 
 TEST(Scheduler, AnExceptionInASystemReachesTheCallerAndLaterSystemsDoNotRun) {
