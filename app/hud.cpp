@@ -9,6 +9,7 @@
 #include "app/session.h"
 #include "engine/error.h"
 #include "engine/profiler.h"
+#include "engine/world.h"
 
 namespace ballpit {
 
@@ -62,6 +63,8 @@ void solver_section(Session& session) {
   SolverSettings& solver = session.world().solver;
   int substeps = solver.substeps;
   if (ImGui::SliderInt("substeps", &substeps, 1, 16)) session.set_substeps(substeps);
+  if (const int needed = accurate_substeps(session.world().step()); solver.substeps < needed)
+    ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "piles sink past 1%% of r below %d substeps", needed);
   float e = session.restitution();
   if (ImGui::SliderFloat("restitution", &e, 0.0f, 1.0f, "%.2f")) session.set_restitution(e);
   float mu = session.friction();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/character.h"
@@ -14,6 +15,14 @@
 #include "engine/sphere_table.h"
 
 namespace ballpit {
+
+// The longest substep (dt / substeps, unit: s) at which the pour settles with its deepest overlap
+// within 1% of r: 0.26% at 1/240 s, 2.9% at 1/180 s, 14% at 1/120 s (10k spheres,
+// profiling/reports/speed_error.md).
+inline constexpr float kLongestAccurateSubstep = 1.0f / 240.0f;
+
+// The fewest substeps that keep dt / substeps within kLongestAccurateSubstep.
+int accurate_substeps(float dt);
 
 class World {
  public:
@@ -38,6 +47,11 @@ class World {
   // length: left as they were, a cache made at 3 substeps warm-started 32 with ten times the
   // load, and the pit-character case at --tolerance 0.01 flung a ball at 113 m/s.
   void set_substeps(int substeps);
+
+  // What a user should know when dt / substeps is longer than kLongestAccurateSubstep, naming
+  // both and the substeps that would do; empty when it is not. A long substep is allowed (the
+  // speed-error study runs them) but softens every contact: a pile sinks into itself.
+  std::string long_substep_warning() const;
 
   // Angular state exists only in scenes that can spin spheres (any friction).
   void enable_angular(bool enabled) { spheres.set_angular(enabled); }
