@@ -110,10 +110,10 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   if (o.naive) world.solver.narrowphase = NarrowphaseMode::Naive;
   if (o.substeps > 0) world.set_substeps(o.substeps);
   world.validate_settings();
+  const World::StepWarnings warnings = world.step_warnings();
   // --tolerance bounds the overlaps itself, whatever substeps it starts from.
-  if (o.tolerance_r == 0.0)
-    if (const std::string warning = world.long_substep_warning(); !warning.empty())
-      std::fprintf(stderr, "ballpit: warning: %s\n", warning.c_str());
+  for (const std::string* warning : {o.tolerance_r == 0.0 ? &warnings.substep : nullptr, &warnings.step})
+    if (warning && !warning->empty()) std::fprintf(stderr, "ballpit: warning: %s\n", warning->c_str());
 
   Scheduler scheduler(o.threads);
   scheduler.profiler().set_tracing(!o.trace_path.empty());

@@ -31,8 +31,9 @@ Session::Session(const SessionOptions& options) : options_(options) {
   threads_ = options_.threads > 0 ? options_.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   omp_set_num_threads(threads_);
   build();
-  if (const std::string warning = world_->long_substep_warning(); !warning.empty())
-    std::fprintf(stderr, "ballpit: warning: %s\n", warning.c_str());
+  const World::StepWarnings warnings = world_->step_warnings();
+  for (const std::string* warning : {&warnings.substep, &warnings.step})
+    if (!warning->empty()) std::fprintf(stderr, "ballpit: warning: %s\n", warning->c_str());
 }
 
 Session::~Session() = default;

@@ -24,6 +24,12 @@ inline constexpr float kLongestAccurateSubstep = 1.0f / 240.0f;
 // The fewest substeps that keep dt / substeps within kLongestAccurateSubstep.
 int accurate_substeps(float dt);
 
+// The longest step (unit: s) past which a step costs more per simulated second than shorter
+// ones, whatever its substeps: a ball's speculative margin grows with dt^2 and outgrows the
+// grid's cells, so every ball searches a wider box. A 2,000-ball pour with substeps of 1/240 s
+// cost 66 ms per simulated second at dt = 1/60 s, 110 at 1/30, 161 at 1/20 and 2,490 at 1/10.
+inline constexpr float kLongestCheapStep = 1.0f / 30.0f;
+
 class World {
  public:
   World();
@@ -48,10 +54,14 @@ class World {
   // load, and the pit-character case at --tolerance 0.01 flung a ball at 113 m/s.
   void set_substeps(int substeps);
 
-  // What a user should know when dt / substeps is longer than kLongestAccurateSubstep, naming
-  // both and the substeps that would do; empty when it is not. A long substep is allowed (the
-  // speed-error study runs them) but softens every contact: a pile sinks into itself.
-  std::string long_substep_warning() const;
+  // What a user should know of dt and substeps (engine/world.cpp words it). Both are allowed
+  // (the speed-error study runs long substeps): a long substep softens every contact, so a pile
+  // sinks into itself, and a long step costs more than the short ones it replaces.
+  struct StepWarnings {
+    std::string substep;  // dt / substeps is longer than kLongestAccurateSubstep, and what would do
+    std::string step;     // dt is longer than kLongestCheapStep
+  };
+  StepWarnings step_warnings() const;
 
   // Angular state exists only in scenes that can spin spheres (any friction).
   void enable_angular(bool enabled) { spheres.set_angular(enabled); }

@@ -66,22 +66,29 @@ TEST(Validation, UnknownMaterialAndBadSettingsAreRefused) {
   expect_mentions(error_of([&] { w.set_gravity(Vec3(0, std::nanf(""), 0)); }), {"gravity", "finite"});
 }
 
-// A long substep is allowed (the speed-error study runs them) but warned of, with the substeps
-// that would do.
-TEST(Validation, ASubstepLongerThanTheAccurateOneIsWarnedOfWithTheSubstepsNeeded) {
+// A long substep or step is allowed (the speed-error study runs them) but warned of, with the
+// substeps that would do.
+TEST(Validation, ALongSubstepOrStepIsWarnedOfWithTheSubstepsNeeded) {
   World w;
-  EXPECT_EQ(w.long_substep_warning(), "");  // 1/60 s at 4 substeps: exactly 1/240 s
+  EXPECT_EQ(w.step_warnings().substep, "");  // 1/60 s at 4 substeps: exactly 1/240 s
+  EXPECT_EQ(w.step_warnings().step, "");
   EXPECT_EQ(accurate_substeps(1.0f / 60.0f), 4);
   w.set_substeps(3);
-  expect_mentions(w.long_substep_warning(), {"5.56 ms", "3 substeps", "1/240 s", "4 substeps keep it within"});
+  expect_mentions(w.step_warnings().substep, {"5.56 ms", "3 substeps", "1/240 s", "4 substeps keep it within"});
+  w.set_substeps(8);
+  w.set_step(1.0f / 30.0f);  // the longest step without a cost warning, at substeps of 1/240 s
+  EXPECT_EQ(w.step_warnings().substep, "");
+  EXPECT_EQ(w.step_warnings().step, "");
   w.set_substeps(4);
   w.set_step(0.1f);
-  expect_mentions(w.long_substep_warning(), {"25 ms", "dt 0.1 s", "24 substeps keep it within", "--tolerance"});
+  expect_mentions(w.step_warnings().substep, {"25 ms", "dt 0.1 s", "24 substeps keep it within", "--tolerance"});
+  expect_mentions(w.step_warnings().step, {"dt 0.1 s", "longer than 1/30 s", "wider box"});
   w.set_substeps(24);
-  EXPECT_EQ(w.long_substep_warning(), "");
+  EXPECT_EQ(w.step_warnings().substep, "");
+  EXPECT_NE(w.step_warnings().step, "");  // more substeps do not make a long step cheap
   w.set_step(1.0f);
-  expect_mentions(w.long_substep_warning(), {"No substep count up to 64", "0.2667 s"});
+  expect_mentions(w.step_warnings().substep, {"No substep count up to 64", "0.2667 s"});
   w.set_step(3e38f);  // still finite: the count saturates instead of overflowing
   EXPECT_GT(accurate_substeps(3e38f), 64);
-  EXPECT_NE(w.long_substep_warning(), "");
+  EXPECT_NE(w.step_warnings().substep, "");
 }
