@@ -43,32 +43,40 @@ void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity, std
   }
 }
 
-void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s) {
-  const Vec3 dv = gravity * h;
-  const float linear = 1.0f / (1.0f + h * s.linear_damping);
-  const float angular = 1.0f / (1.0f + h * s.angular_damping);  // spin r w damps as w does
-  const std::int64_t n = static_cast<std::int64_t>(bodies.rows);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    SolverBody& b = bodies.body[i];
+namespace {
+
+// One body's velocity kick and move, for the whole-table loops and the solver's row ranges alike.
+struct Kick {
+  Vec3 dv;
+  float linear, angular;
+  bool damp_spin;
+
+  Kick(const Vec3& gravity, float h, const SolverSettings& s)
+      : dv(gravity * h),
+        linear(1.0f / (1.0f + h * s.linear_damping)),
+        angular(1.0f / (1.0f + h * s.angular_damping)),  // spin r w damps as w does
+        damp_spin(s.angular_damping > 0.0f) {}
+
+  void operator()(SolverBody& b) const {
     b.pseudo = {0.0f, 0.0f, 0.0f, b.pseudo.w};
     Quad& spin = b.spin;
     spin.w = 0.0f;  // pushed
     Quad& v = b.velocity;
-    if (v.w == 0.0f) continue;  // asleep: immobile this step
+    if (v.w == 0.0f) return;  // asleep: immobile this step
     v = {(v.x + dv.x()) * linear, (v.y + dv.y()) * linear, (v.z + dv.z()) * linear, v.w};
-    if (s.angular_damping > 0.0f) spin = {spin.x * angular, spin.y * angular, spin.z * angular, 0.0f};
+    if (damp_spin) spin = {spin.x * angular, spin.y * angular, spin.z * angular, 0.0f};
   }
-}
+};
 
-void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity) {
-  const Vec3 flight_correction = -0.5f * h * h * gravity;
-  const std::int64_t n = static_cast<std::int64_t>(bodies.rows);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    SolverBody& b = bodies.body[i];
+struct Move {
+  float h;
+  Vec3 flight_correction;
+
+  Move(float substep, const Vec3& gravity) : h(substep), flight_correction(-0.5f * substep * substep * gravity) {}
+
+  void operator()(SolverBody& b) const {
     const Quad& v = b.velocity;
-    if (v.w == 0.0f) continue;
+    if (v.w == 0.0f) return;
     Quad& x = b.position;
     const Quad& p = b.pseudo;
     float px = x.x + v.x * h, py = x.y + v.y * h, pz = x.z + v.z * h;
@@ -79,6 +87,32 @@ void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity) {
     }
     x = {px + p.x * h, py + p.y * h, pz + p.z * h, x.w};
   }
+};
+
+template <class F>
+void each_body(SolverBodies& bodies, const F& f) {
+  const std::int64_t n = static_cast<std::int64_t>(bodies.rows);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) f(bodies.body[i]);
+}
+
+}  // namespace
+
+void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s) {
+  each_body(bodies, Kick(gravity, h, s));
+}
+
+void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity) { each_body(bodies, Move(h, gravity)); }
+
+void integrate_velocities(SolverBodies& bodies, std::size_t first, std::size_t last, const Vec3& gravity, float h,
+                          const SolverSettings& s) {
+  const Kick kick(gravity, h, s);
+  for (std::size_t i = first; i < last; ++i) kick(bodies.body[i]);
+}
+
+void integrate_positions(SolverBodies& bodies, std::size_t first, std::size_t last, float h, const Vec3& gravity) {
+  const Move move(h, gravity);
+  for (std::size_t i = first; i < last; ++i) move(bodies.body[i]);
 }
 
 Access IntegrateSystem::access() const {

@@ -7,6 +7,7 @@
 // Reads: gravity, inverse mass, sleep. Writes: positions, velocities, angular velocities.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -31,6 +32,11 @@ void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity,
 // each body's pushed flag and push-out velocity for the substep ahead; the move reads them.
 void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s);
 void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity);
+// Rows [first, last) only, on the calling thread: the solver moves each thread's rows just
+// before its sweep reaches them (systems/solver.cpp).
+void integrate_velocities(SolverBodies& bodies, std::size_t first, std::size_t last, const Vec3& gravity, float h,
+                          const SolverSettings& s);
+void integrate_positions(SolverBodies& bodies, std::size_t first, std::size_t last, float h, const Vec3& gravity);
 
 class IntegrateSystem : public System {
  public:

@@ -218,16 +218,31 @@ struct Step {
     if (pass == ContactPass::Solve) solve_statics<pass>(group, result);
   }
 
+  // Rows [first, last): the substep's velocity kick before the warm start reaches them, the
+  // move before the relax pass does (after every contact of the solve pass).
+  template <ContactPass pass>
+  void integrate_rows(std::uint32_t first, std::uint32_t last) {
+    const SolverSettings& settings = world.solver;
+    if constexpr (pass == ContactPass::WarmStart)
+      integrate_velocities(scratch.bodies, first, last, gravity, args.params.h, settings);
+    if constexpr (pass == ContactPass::Relax) integrate_positions(scratch.bodies, first, last, args.params.h, gravity);
+  }
+
   // Even slabs in parallel, odd slabs in parallel, then the pairs that span slabs: no two slabs
-  // swept at once share a sphere, so the result is the same for any number of threads.
+  // swept at once share a sphere, so the result is the same for any number of threads. An even
+  // group's contacts touch only its rows (SolverScratch::even_group_rows), so each thread
+  // integrates its groups' rows first where that is part of the pass.
   template <ContactPass pass>
   void sweep() {
     bool any_shift = false;
+    const bool integrates = pass != ContactPass::Solve && !scratch.even_group_rows.empty();
     for (int parity = 0; parity < 2; ++parity) {
       std::vector<SlabGroup>& groups = scratch.groups[parity];
 #pragma omp parallel reduction(|| : any_shift)
       {
         const auto [first, last] = group_share(scratch.batches_before[parity]);
+        if (parity == 0 && integrates)
+          integrate_rows<pass>(scratch.even_group_rows[first], scratch.even_group_rows[last]);
         for (int g = first; g < last; ++g) {
           BatchPassResult result;
           sweep_group<pass>(groups[g], result);
@@ -292,6 +307,23 @@ void group_slabs(World& world, SolverScratch& scratch) {
     }
     groups.resize(used);
   }
+  // The even groups' rows, when the slabs are the grid's x slabs (engine/contact_set.h).
+  std::vector<std::uint32_t>& rows = scratch.even_group_rows;
+  rows.clear();
+  const SpatialGrid& grid = world.grid;
+  const std::size_t n = scratch.bodies.rows;
+  if (!scratch.integrate_in_sweeps || count == 0 || grid.nx != count ||
+      grid.cell_start.size() != grid.cell_count() + 1 || grid.slab_row_begin(count) != n)
+    return;
+  rows.push_back(0);
+  for (const SlabGroup& group : scratch.groups[0]) {
+    if (grid.slab_row_begin(group.slabs.front()) != rows.back()) {  // not contiguous: no such rows
+      rows.clear();
+      return;
+    }
+    rows.push_back(grid.slab_row_begin(std::min(group.slabs.back() + 2, count)));
+  }
+  if (rows.back() != n) rows.clear();
 }
 
 // A group's joint-collider contacts, each with the impulses it starts the step from.
@@ -466,15 +498,16 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   step.args.wake_speed = settings.wake_speed;
   for (int k = 0; k < 3; ++k) step.args.gravity[k] = world.gravity()[k];
   step.args.frames_current = false;  // new batches: no pass has computed a frame yet
+  const bool own_integration = scratch.even_group_rows.empty();  // else the sweeps integrate
   for (int sub = 0; sub < substeps; ++sub) {
-    integrate_velocities(scratch.bodies, world.gravity(), h, settings);
+    if (own_integration) integrate_velocities(scratch.bodies, world.gravity(), h, settings);
     step.collider_time = static_cast<float>(sub) * h;  // colliders where the substep starts
     step.sweep<ContactPass::WarmStart>();
     // The frames are now those of these positions, by the warm start or the last Relax, and
     // Solve keeps them (the reference mode has every pass compute its own).
     step.args.frames_current = settings.keep_pair_frames;
     step.sweep<ContactPass::Solve>();
-    integrate_positions(scratch.bodies, h, world.gravity());
+    if (own_integration) integrate_positions(scratch.bodies, h, world.gravity());
     step.collider_time = static_cast<float>(sub + 1) * h;  // and where it ends, as the spheres now are
     step.sweep<ContactPass::Relax>();
     step.args.frames_current = settings.keep_pair_frames && !step.shifted;

@@ -70,12 +70,20 @@ struct SlabGroup {
 struct SolverScratch {
   const BatchKernels* kernels = nullptr;  // null: batch_kernels(), the fastest this CPU runs
   int slabs_per_group = 0;                // 0: as many as keep the lanes full and the threads busy
+  bool integrate_in_sweeps = true;        // false: the substep's kick and move in passes of their own
 
   SolverBodies bodies;
   std::vector<SlabGroup> groups[2];  // of the even slabs, of the odd ones
   // Per parity, the contacts and the batches of groups [0, k) at k: what packing and the
   // passes split among threads.
   std::vector<std::size_t> contacts_before[2], batches_before[2];
+  // Rows [k], [k + 1]) belong to even group k's slabs and the odd slab after each: together
+  // every row, so each thread kicks and moves its own rows in its even sweep, just before it
+  // reaches them, instead of in passes of their own: eight fewer parallel regions a step, each a
+  // wake-up of the team (the 100k pour on 2 threads with passive waits: 36.9 to 35.9 ms a step;
+  // 10k: 6.04 to 5.37). Empty when the contacts' slabs are not the grid's (contacts made by
+  // hand) or integrate_in_sweeps is off: the passes of their own run then.
+  std::vector<std::uint32_t> even_group_rows;
   // The pairs that span slabs: every slab's, in slab order, and their batches.
   std::vector<Contact> serial_pairs;
   BatchList serial;

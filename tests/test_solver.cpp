@@ -243,6 +243,23 @@ TEST(Solver, HowSlabsAreGroupedChangesNoBit) {
   EXPECT_EQ(pour_hash_with(by_contacts), expected);  // the default: cut by contacts
 }
 
+TEST(Solver, IntegratingInTheSweepsChangesNoBit) {
+  // Each thread kicks and moves its own rows in its even sweep instead of in passes of their
+  // own; on any team and any grouping that must be the same arithmetic on every body, in time
+  // for every contact that touches it.
+  for (int threads : {1, 2})
+    for (int slabs : {0, 1}) {
+      const TeamSize team(threads);
+      SolverScratch own, in_sweeps;
+      own.integrate_in_sweeps = false;
+      own.slabs_per_group = in_sweeps.slabs_per_group = slabs;
+      const std::string expected = pour_hash_with(own);
+      EXPECT_TRUE(own.even_group_rows.empty());
+      EXPECT_EQ(pour_hash_with(in_sweeps), expected) << threads << " threads, slabs per group " << slabs;
+      EXPECT_FALSE(in_sweeps.even_group_rows.empty());  // the sweeps did integrate
+    }
+}
+
 TEST(Solver, DefaultGroupsGiveEachThreadAnEqualShare) {
   // A thread takes whole groups, so groups of unequal work, or a number of groups the team does
   // not divide, leave one thread waiting on the other at the end of every pass. 12k spheres: a
