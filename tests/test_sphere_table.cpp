@@ -3,6 +3,7 @@
 #include <numeric>
 
 #include "engine/error.h"
+#include "engine/thread_share.h"
 #include "engine/world.h"
 #include "tiny_world.h"
 
@@ -18,6 +19,43 @@ TEST(SphereTable, HandlesFollowEveryReorder) {
   for (int i = 0; i < 10; ++i) {
     EXPECT_EQ(w.spheres.row(e[i]), 9u - i);
     EXPECT_EQ(w.spheres.position()[w.spheres.row(e[i])].x(), float(i));
+  }
+}
+
+TEST(SphereTable, ReordersBetweenAddsAndRemovesKeepEveryColumnWithItsEntity) {
+  // permute() gathers into columns it keeps from the last reorder: they must take the table's
+  // size each time, and leave nothing of the last reorder's rows behind.
+  const TeamSize team(2);
+  World w;
+  std::vector<Entity> e;
+  auto add = [&](int i) {
+    e.push_back(test::add_ball(w, Vec3(float(i), 0, 0), Vec3(0, float(i), 0), 0.01f * float(i + 1)));
+  };
+  auto rotate = [&] {  // row k takes row k + 1's sphere
+    const std::uint32_t n = static_cast<std::uint32_t>(w.spheres.size());
+    std::vector<std::uint32_t> order(n);
+    for (std::uint32_t k = 0; k < n; ++k) order[k] = (k + 1) % n;
+    w.spheres.permute(order);
+  };
+  for (int i = 0; i < 8; ++i) add(i);
+  rotate();
+  for (int i = 8; i < 20; ++i) add(i);  // larger than the kept columns
+  rotate();
+  w.remove_sphere(e[3]);
+  w.remove_sphere(e[11]);  // smaller again
+  rotate();
+  rotate();
+  EXPECT_EQ(w.spheres.size(), 18u);
+  for (int i = 0; i < 20; ++i) {
+    if (i == 3 || i == 11) {
+      EXPECT_FALSE(w.spheres.contains(e[i]));
+      continue;
+    }
+    const std::uint32_t row = w.spheres.row(e[i]);
+    EXPECT_EQ(w.spheres.position()[row].x(), float(i));
+    EXPECT_EQ(w.spheres.velocity()[row].y(), float(i));
+    EXPECT_EQ(w.spheres.radius()[row], 0.01f * float(i + 1));
+    EXPECT_EQ(w.spheres.entity_at(row), e[i]);
   }
 }
 
