@@ -236,18 +236,20 @@ struct Step {
   void sweep() {
     bool any_shift = false;
     const bool integrates = pass != ContactPass::Solve && !scratch.even_group_rows.empty();
-    for (int parity = 0; parity < 2; ++parity) {
-      std::vector<SlabGroup>& groups = scratch.groups[parity];
+    // One team for both parities, which meets at a barrier between them (cheaper than a
+    // region's end and the next one's start where threads wait passively).
 #pragma omp parallel reduction(|| : any_shift)
-      {
-        const auto [first, last] = group_share(scratch.batches_before[parity]);
-        if (parity == 0 && integrates)
-          integrate_rows<pass>(scratch.even_group_rows[first], scratch.even_group_rows[last]);
-        for (int g = first; g < last; ++g) {
-          BatchPassResult result;
-          sweep_group<pass>(groups[g], result);
-          any_shift = any_shift || result.shifted;
-        }
+    for (int parity = 0; parity < 2; ++parity) {
+      if (parity == 1) {
+#pragma omp barrier
+      }
+      const auto [first, last] = group_share(scratch.batches_before[parity]);
+      if (parity == 0 && integrates)
+        integrate_rows<pass>(scratch.even_group_rows[first], scratch.even_group_rows[last]);
+      for (int g = first; g < last; ++g) {
+        BatchPassResult result;
+        sweep_group<pass>(scratch.groups[parity][g], result);
+        any_shift = any_shift || result.shifted;
       }
     }
     BatchPassResult result;
