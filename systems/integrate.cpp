@@ -5,7 +5,6 @@
 
 namespace ballpit {
 
-
 void integrate_velocities(SphereTable& spheres, const Vec3& gravity, float h, const SolverSettings& s) {
   auto v = spheres.mut_velocity();
   auto asleep = spheres.asleep();

@@ -77,12 +77,13 @@ struct SolverScratch {
   // Per parity, the contacts and the batches of groups [0, k) at k: what packing and the
   // passes split among threads.
   std::vector<std::size_t> contacts_before[2], batches_before[2];
-  // Rows [k], [k + 1]) belong to even group k's slabs and the odd slab after each: together
-  // every row, so each thread kicks and moves its own rows in its even sweep, just before it
-  // reaches them, instead of in passes of their own: eight fewer parallel regions a step, each a
-  // wake-up of the team (the 100k pour on 2 threads with passive waits: 36.9 to 35.9 ms a step;
-  // 10k: 6.04 to 5.37). Empty when the contacts' slabs are not the grid's (contacts made by
-  // hand) or integrate_in_sweeps is off: the passes of their own run then.
+  // Rows [even_group_rows[k], even_group_rows[k + 1]) belong to even group k's slabs and the
+  // odd slab after each: together every row, so each thread kicks and moves its own rows in its
+  // even sweep, just before it reaches them, instead of in passes of their own: eight fewer
+  // parallel regions a step, each a wake-up of the team (the 100k pour on 2 threads with
+  // passive waits: 36.9 to 35.9 ms a step; 10k: 6.04 to 5.37). Empty when the contacts' slabs
+  // are not the grid's (contacts made by hand) or integrate_in_sweeps is off: the passes of
+  // their own run then.
   std::vector<std::uint32_t> even_group_rows;
   // The pairs that span slabs: every slab's, in slab order, and their batches.
   std::vector<Contact> serial_pairs;
