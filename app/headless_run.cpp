@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "app/step_warnings.h"
 #include "engine/error.h"
 #include "engine/fixed_step_loop.h"
 #include "engine/memory_budget.h"
@@ -110,10 +111,7 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   if (o.naive) world.solver.narrowphase = NarrowphaseMode::Naive;
   if (o.substeps > 0) world.set_substeps(o.substeps);
   world.validate_settings();
-  const World::StepWarnings warnings = world.step_warnings();
-  // --tolerance bounds the overlaps itself, whatever substeps it starts from.
-  for (const std::string* warning : {o.tolerance_r == 0.0 ? &warnings.substep : nullptr, &warnings.step})
-    if (warning && !warning->empty()) std::fprintf(stderr, "ballpit: warning: %s\n", warning->c_str());
+  print_step_warnings(world, o.tolerance_r > 0.0);
 
   Scheduler scheduler(o.threads);
   scheduler.profiler().set_tracing(!o.trace_path.empty());

@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <thread>
 
 #include "app/play_scene.h"
+#include "app/step_warnings.h"
 #include "engine/error.h"
 #include "systems/character_pipeline.h"
 #include "systems/physics_pipeline.h"
@@ -31,9 +31,7 @@ Session::Session(const SessionOptions& options) : options_(options) {
   threads_ = options_.threads > 0 ? options_.threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   omp_set_num_threads(threads_);
   build();
-  const World::StepWarnings warnings = world_->step_warnings();
-  for (const std::string* warning : {&warnings.substep, &warnings.step})
-    if (!warning->empty()) std::fprintf(stderr, "ballpit: warning: %s\n", warning->c_str());
+  print_step_warnings(*world_);
 }
 
 Session::~Session() = default;

@@ -72,6 +72,7 @@ struct ContactSet {
   std::size_t pair_count() const;
   std::size_t static_count() const;
   std::size_t serial_count() const;
+  std::size_t count() const { return pair_count() + static_count() + serial_count(); }  // all of them
 };
 
 }  // namespace ballpit

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "engine/error.h"
 
@@ -114,30 +115,31 @@ void SphereTable::set_angular(bool enabled) {
   }
 }
 
-template <class F>
-void SphereTable::each_column(F&& f) {
-  f(position_, targets_.position);
-  f(velocity_, targets_.velocity);
-  f(angular_velocity_, targets_.angular_velocity);
-  f(radius_, targets_.radius);
-  f(inv_mass_, targets_.inv_mass);
-  f(material_, targets_.material);
-  f(color_, targets_.color);
-  f(still_time_, targets_.still_time);
-  f(asleep_, targets_.asleep);
-  f(entity_, targets_.entity);
-  f(generation_, targets_.generation);
+template <class Table, class F>
+void SphereTable::each_column(Table& table, F&& f) {
+  auto& t = table.targets_;
+  f(table.position_, t.position);
+  f(table.velocity_, t.velocity);
+  f(table.angular_velocity_, t.angular_velocity);
+  f(table.radius_, t.radius);
+  f(table.inv_mass_, t.inv_mass);
+  f(table.material_, t.material);
+  f(table.color_, t.color);
+  f(table.still_time_, t.still_time);
+  f(table.asleep_, t.asleep);
+  f(table.entity_, t.entity);
+  f(table.generation_, t.generation);
 }
 
 void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
-  each_column([](auto& column, auto& target) { target.resize(column.size()); });
+  each_column(*this, [](auto& column, auto& target) { target.resize(column.size()); });
   const std::int64_t n = static_cast<std::int64_t>(entity_.size());
   // One team for every column, each thread taking the same rows of each (nowait: no column
   // waits for another), then the entity -> row map from the gathered entities. A region per
   // column made eleven wake-ups of the team a step.
 #pragma omp parallel
   {
-    each_column([&](auto& column, auto& target) {
+    each_column(*this, [&](auto& column, auto& target) {
       const std::int64_t rows = static_cast<std::int64_t>(column.size());  // 0 or n
 #pragma omp for schedule(static) nowait
       for (std::int64_t i = 0; i < rows; ++i) target[i] = column[new_to_old[i]];
@@ -147,14 +149,17 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) row_of_[entity[i]] = static_cast<std::uint32_t>(i);
   }
-  each_column([](auto& column, auto& target) { column.swap(target); });
+  each_column(*this, [](auto& column, auto& target) { column.swap(target); });
 }
 
 std::size_t SphereTable::bytes_per_sphere() const {
-  std::size_t b = sizeof(Vec3) * 2 + sizeof(float) * 3 + sizeof(std::uint16_t) +
-                  sizeof(std::uint32_t) * 4 + sizeof(std::uint8_t);
-  if (has_angular_) b += sizeof(Vec3);
-  return 2 * b;  // and permute()'s targets
+  std::size_t b = sizeof(std::uint32_t);  // row_of_
+  each_column(*this, [&](const auto& column, const auto&) {
+    // Twice: the column and permute()'s target. The spin column exists only with spin.
+    if (&column != static_cast<const void*>(&angular_velocity_) || has_angular_)
+      b += 2 * sizeof(typename std::decay_t<decltype(column)>::value_type);
+  });
+  return b;
 }
 
 }  // namespace ballpit

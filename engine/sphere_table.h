@@ -94,9 +94,9 @@ class SphereTable {
     check_access(id, true);
     return {c.data(), c.size()};
   }
-  // Calls f(column, target) for every column and its permute() target.
-  template <class F>
-  void each_column(F&& f);
+  // Calls f(column, target) for every column of `table` and its permute() target (const or not).
+  template <class Table, class F>
+  static void each_column(Table& table, F&& f);
 
   Column<Vec3> position_;
   Column<Vec3> velocity_;

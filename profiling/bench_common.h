@@ -38,7 +38,7 @@ void timed_loop(benchmark::State& state, std::size_t n, F&& step) {
 }
 
 inline std::size_t contact_count(const World& w) {
-  return w.contacts.pair_count() + w.contacts.static_count() + w.contacts.serial_count();
+  return w.contacts.count();
 }
 
 // Registers `body` for every kind, size and thread count. The body gets a fresh copy of the

@@ -101,7 +101,7 @@ Access SleepSystem::access() const {
 
 bool wake_approached(World& world) {
   const ContactSet& found = world.contacts;
-  const TeamSize team(team_for(found.pair_count() + found.static_count() + found.serial_count(), kContactsPerThread));
+  const TeamSize team(team_for(found.count(), kContactsPerThread));
   SphereTable& spheres = world.spheres;
   auto asleep = spheres.mut_asleep();
   auto still = spheres.mut_still_time();

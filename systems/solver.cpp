@@ -480,7 +480,7 @@ void solve_contacts(World& world) {
 
 void solve_contacts(World& world, SolverScratch& scratch) {
   const ContactSet& found = world.contacts;
-  const TeamSize team(team_for(found.pair_count() + found.static_count() + found.serial_count(), kContactsPerThread));
+  const TeamSize team(team_for(found.count(), kContactsPerThread));
   SphereTable& spheres = world.spheres;
   const SolverSettings& settings = world.solver;
   const int substeps = settings.substeps;

@@ -59,8 +59,7 @@ double contact_penetration_r(const World& world) {
   double deepest = 0.0;
   // A team only for many contacts: at 1k spheres 2 threads took 0.064 ms against 0.008 on 1,
   // at 10k 0.096 against 0.081; at 100k 0.63 against 1.13 (profiling/reports/systems.md).
-  const ContactSet& found = world.contacts;
-  const TeamSize team(team_for(found.pair_count() + found.static_count() + found.serial_count(), kContactsPerThread));
+  const TeamSize team(team_for(world.contacts.count(), kContactsPerThread));
   // A max is exact in any order: the result does not depend on the threads.
 #pragma omp parallel for schedule(dynamic, 4) reduction(max : deepest)
   for (std::int64_t k = 0; k < count; ++k) {
