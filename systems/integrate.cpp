@@ -93,20 +93,7 @@ struct Move {
   }
 };
 
-template <class F>
-void each_body(SolverBodies& bodies, const F& f) {
-  const std::int64_t n = static_cast<std::int64_t>(bodies.rows);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) f(bodies.body[i]);
-}
-
 }  // namespace
-
-void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s) {
-  each_body(bodies, Kick(gravity, h, s));
-}
-
-void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity) { each_body(bodies, Move(h, gravity)); }
 
 void integrate_velocities(SolverBodies& bodies, std::size_t first, std::size_t last, const Vec3& gravity, float h,
                           const SolverSettings& s) {

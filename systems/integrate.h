@@ -28,12 +28,10 @@ void integrate_velocities(SphereTable& spheres, const Vec3& gravity, float h, co
 void integrate_positions(SphereTable& spheres, float h, const Vec3& gravity,
                          std::span<const std::uint8_t> pushed = {}, std::span<const Vec3> push_out = {});
 
-// The same on the solver's bodies, which also carry the substep's flags: the velocity kick clears
-// each body's pushed flag and push-out velocity for the substep ahead; the move reads them.
-void integrate_velocities(SolverBodies& bodies, const Vec3& gravity, float h, const SolverSettings& s);
-void integrate_positions(SolverBodies& bodies, float h, const Vec3& gravity);
-// Rows [first, last) only, on the calling thread: the solver moves each thread's rows just
-// before its sweep reaches them (systems/solver.cpp).
+// The same on rows [first, last) of the solver's bodies, on the calling thread (each thread of
+// the solver moves its own rows just before its sweep reaches them, systems/solver.cpp). The
+// bodies also carry the substep's flags: the velocity kick clears each body's pushed flag and
+// push-out velocity for the substep ahead; the move reads them.
 void integrate_velocities(SolverBodies& bodies, std::size_t first, std::size_t last, const Vec3& gravity, float h,
                           const SolverSettings& s);
 void integrate_positions(SolverBodies& bodies, std::size_t first, std::size_t last, float h, const Vec3& gravity);

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -122,6 +123,14 @@ void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spher
   }
 }
 
+// What the threads that run the substeps share (systems/solver.cpp, solve_contacts).
+struct SolverTeam {
+  explicit SolverTeam(int substeps) : shifted(static_cast<std::size_t>(substeps)) {}
+  // Per substep: its Relax pass moved spheres by impact shifts (the kept frames are stale).
+  std::vector<std::atomic<std::uint8_t>> shifted;
+  std::atomic<std::uint64_t> swept{0};  // threads through their odd groups, over all passes
+};
+
 // The state of one step's solve that is not the world's: bodies, batches, flags.
 struct Step {
   World& world;
@@ -135,7 +144,7 @@ struct Step {
   // end (systems/joint_colliders.h), so each substep sees it where it is at that moment: a fast
   // limb sweeps the step in substep-sized moves instead of jumping a whole step at once.
   float collider_time = 0.0f;
-  bool shifted = false;  // a Relax pass moved spheres by impact shifts
+  SolverTeam* shared = nullptr;  // what the threads that run the substeps share
 
   // A joint collider as seen by sphere row a: normal from the sphere into the collider, gap, and
   // the collider's surface velocity there.
@@ -228,33 +237,39 @@ struct Step {
     if constexpr (pass == ContactPass::Relax) integrate_positions(scratch.bodies, first, last, args.params.h, gravity);
   }
 
-  // Even slabs in parallel, odd slabs in parallel, then the pairs that span slabs: no two slabs
-  // swept at once share a sphere, so the result is the same for any number of threads. An even
-  // group's contacts touch only its rows (SolverScratch::even_group_rows), so each thread
-  // integrates its groups' rows first where that is part of the pass.
+  // One pass, run by every thread of the solver's team: its even groups, a barrier, its odd
+  // groups, then the pairs that span slabs (they may touch any row) on the last thread through
+  // its odd groups, and a barrier. No two slabs swept at once share a sphere, so the result is
+  // the same for any number of threads. An even group's contacts touch only its rows
+  // (SolverScratch::even_group_rows), so each thread integrates its groups' rows first where
+  // that is part of the pass; without such rows every thread integrates an equal share, and all
+  // wait for the others before sweeping.
   template <ContactPass pass>
-  void sweep() {
-    bool any_shift = false;
-    const bool integrates = pass != ContactPass::Solve && !scratch.even_group_rows.empty();
-    // One team for both parities, which meets at a barrier between them (cheaper than a
-    // region's end and the next one's start where threads wait passively).
-#pragma omp parallel reduction(|| : any_shift)
+  void sweep(int sub) {
+    if constexpr (pass != ContactPass::Solve) {
+      if (scratch.even_group_rows.empty()) {
+        const auto [first, last] = thread_share(static_cast<int>(scratch.bodies.rows), [](int k) { return std::size_t(k); });
+        integrate_rows<pass>(static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last));
+#pragma omp barrier
+      }
+    }
+    BatchPassResult result;
     for (int parity = 0; parity < 2; ++parity) {
       if (parity == 1) {
 #pragma omp barrier
       }
       const auto [first, last] = group_share(scratch.batches_before[parity]);
-      if (parity == 0 && integrates)
+      if (pass != ContactPass::Solve && parity == 0 && !scratch.even_group_rows.empty())
         integrate_rows<pass>(scratch.even_group_rows[first], scratch.even_group_rows[last]);
-      for (int g = first; g < last; ++g) {
-        BatchPassResult result;
-        sweep_group<pass>(scratch.groups[parity][g], result);
-        any_shift = any_shift || result.shifted;
-      }
+      for (int g = first; g < last; ++g) sweep_group<pass>(scratch.groups[parity][g], result);
     }
-    BatchPassResult result;
-    run_batches(BatchKind::Pairs, pass, scratch.serial, result);
-    if (pass == ContactPass::Relax) shifted = any_shift || result.shifted;
+    // One barrier fewer than a `single` after a barrier: the last thread to arrive has seen every
+    // other thread's sweep (acquire), and the others wait for it at the pass's end.
+    const std::uint64_t arrived = shared->swept.fetch_add(1, std::memory_order_acq_rel) + 1;
+    if (arrived % static_cast<std::uint64_t>(omp_get_num_threads()) == 0)
+      run_batches(BatchKind::Pairs, pass, scratch.serial, result);
+    if (result.shifted) shared->shifted[static_cast<std::size_t>(sub)].store(1, std::memory_order_relaxed);
+#pragma omp barrier
   }
 };
 
@@ -500,19 +515,23 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   step.args.wake_speed = settings.wake_speed;
   for (int k = 0; k < 3; ++k) step.args.gravity[k] = world.gravity()[k];
   step.args.frames_current = false;  // new batches: no pass has computed a frame yet
-  const bool own_integration = scratch.even_group_rows.empty();  // else the sweeps integrate
+  // One team for every substep, its passes divided by barriers: each start of a parallel region
+  // is a wake-up of the team, which costs tens of microseconds where threads wait passively.
+  // Every thread runs the whole loop on its own copy of the step's pass settings, which all
+  // compute alike from what they share.
+  SolverTeam team_state(substeps);
+  step.shared = &team_state;
+#pragma omp parallel firstprivate(step)
   for (int sub = 0; sub < substeps; ++sub) {
-    if (own_integration) integrate_velocities(scratch.bodies, world.gravity(), h, settings);
     step.collider_time = static_cast<float>(sub) * h;  // colliders where the substep starts
-    step.sweep<ContactPass::WarmStart>();
+    step.sweep<ContactPass::WarmStart>(sub);
     // The frames are now those of these positions, by the warm start or the last Relax, and
     // Solve keeps them (the reference mode has every pass compute its own).
     step.args.frames_current = settings.keep_pair_frames;
-    step.sweep<ContactPass::Solve>();
-    if (own_integration) integrate_positions(scratch.bodies, h, world.gravity());
+    step.sweep<ContactPass::Solve>(sub);
     step.collider_time = static_cast<float>(sub + 1) * h;  // and where it ends, as the spheres now are
-    step.sweep<ContactPass::Relax>();
-    step.args.frames_current = settings.keep_pair_frames && !step.shifted;
+    step.sweep<ContactPass::Relax>(sub);
+    step.args.frames_current = settings.keep_pair_frames && !team_state.shifted[static_cast<std::size_t>(sub)].load(std::memory_order_relaxed);
   }
   guard_colliders(world.colliders, world.step(), spheres.position(), scratch.bodies);  // before the positions are stored
   store_bodies(scratch.bodies, world.pit, spheres);

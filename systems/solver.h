@@ -70,7 +70,7 @@ struct SlabGroup {
 struct SolverScratch {
   const BatchKernels* kernels = nullptr;  // null: batch_kernels(), the fastest this CPU runs
   int slabs_per_group = 0;                // 0: as many as keep the lanes full and the threads busy
-  bool integrate_in_sweeps = true;        // false: the substep's kick and move in passes of their own
+  bool integrate_in_sweeps = true;        // false: the substep's kick and move on equal shares of rows
 
   SolverBodies bodies;
   std::vector<SlabGroup> groups[2];  // of the even slabs, of the odd ones
@@ -79,11 +79,11 @@ struct SolverScratch {
   std::vector<std::size_t> contacts_before[2], batches_before[2];
   // Rows [even_group_rows[k], even_group_rows[k + 1]) belong to even group k's slabs and the
   // odd slab after each: together every row, so each thread kicks and moves its own rows in its
-  // even sweep, just before it reaches them, instead of in passes of their own: eight fewer
-  // parallel regions a step, each a wake-up of the team (the 100k pour on 2 threads with
-  // passive waits: 36.9 to 35.9 ms a step; 10k: 6.04 to 5.37). Empty when the contacts' slabs
-  // are not the grid's (contacts made by hand) or integrate_in_sweeps is off: the passes of
-  // their own run then.
+  // even sweep, just before it reaches them, instead of on a share of its own that all threads
+  // must finish before any sweeps: eight fewer waits a step, each a wake-up of the team (the
+  // 100k pour on 2 threads with passive waits: 36.9 to 35.9 ms a step; 10k: 6.04 to 5.37, when
+  // each was a parallel region). Empty when the contacts' slabs are not the grid's (contacts
+  // made by hand) or integrate_in_sweeps is off: the equal shares and their waits run then.
   std::vector<std::uint32_t> even_group_rows;
   // The pairs that span slabs: every slab's, in slab order, and their batches.
   std::vector<Contact> serial_pairs;
