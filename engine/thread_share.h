@@ -11,8 +11,12 @@
 // systems that use this are deterministic for any split.
 #pragma once
 
+#include <strings.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
+#include <cstdlib>
 #include <utility>
 
 #include <omp.h>
@@ -55,14 +59,53 @@ std::pair<int, int> thread_share(int count, CostBefore&& cost_before) {
   return share_of(omp_get_thread_num(), omp_get_num_threads(), count, cost_before);
 }
 
-// The threads worth waking for `work` items (rows, contacts) when each should get at least
-// `per_thread`, up to the calling thread's team size. Starting and ending a parallel region
-// costs microseconds, and the solver runs about sixty a step: at 1k spheres, 2 threads took 1.6x
-// the time of 1 for the whole step.
+// Whether this process's OpenMP threads wait passively (OMP_WAIT_POLICY=passive, as
+// scripts/run.sh, the reports and the tests set it; read once, as the OpenMP runtime reads it).
+// A waiting thread then sleeps, and waking it for the next parallel region or past a barrier
+// took 20 to 25 us on the KVM hosts measured, against under a microsecond for a spinning one:
+// a team is worth that only on more work.
+inline bool threads_wait_passively() {
+  static const bool passive = [] {
+    const char* policy = std::getenv("OMP_WAIT_POLICY");
+    return policy != nullptr && strcasecmp(policy, "passive") == 0;
+  }();
+  return passive;
+}
+
+// Items (rows, contacts) worth a thread of their own where threads spin while they wait, and
+// where they wait passively.
+struct PerThread {
+  std::size_t spinning;
+  std::size_t passive;
+};
+
+namespace detail {
+inline std::atomic<int> full_teams{0};  // FullTeams alive
+}
+
+// The threads worth waking for `work` items when each should get at least `per_thread`, up to
+// the calling thread's team size. Starting and ending a parallel region costs microseconds, and
+// the solver runs about sixty a step: at 1k spheres, 2 threads took 1.6x the time of 1 for the
+// whole step.
 inline int team_for(std::size_t work, std::size_t per_thread) {
   const std::size_t most = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+  if (detail::full_teams.load(std::memory_order_relaxed) > 0) return static_cast<int>(most);
   return static_cast<int>(std::clamp<std::size_t>(work / per_thread, 1, most));
 }
+
+inline int team_for(std::size_t work, PerThread per_thread) {
+  return team_for(work, threads_wait_passively() ? per_thread.passive : per_thread.spinning);
+}
+
+// For its lifetime, every system takes the calling thread's whole team whatever its work, so a
+// test's small world runs each parallel path that team_for would leave to one thread.
+class FullTeams {
+ public:
+  FullTeams() { ++detail::full_teams; }
+  ~FullTeams() { --detail::full_teams; }
+  FullTeams(const FullTeams&) = delete;
+  FullTeams& operator=(const FullTeams&) = delete;
+};
 
 // For its lifetime, the calling thread's parallel regions run `threads` threads (OpenMP's
 // nthreads-var belongs to the calling thread, so systems run side by side by the scheduler do

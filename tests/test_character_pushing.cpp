@@ -11,6 +11,7 @@
 
 #include "engine/metrics.h"
 #include "engine/state_hash.h"
+#include "engine/thread_share.h"
 #include "systems/joint_colliders.h"
 #include "systems/pit_character_scene.h"
 #include "tests/character_fixture.h"
@@ -183,6 +184,7 @@ struct PitRun {
 
 PitRun run_pit_character(std::size_t balls, int settle_steps, int path_steps, int threads) {
   omp_set_num_threads(threads);
+  const FullTeams full;  // every system on every thread, whatever team_for would choose
   World world;
   PitCharacterScene scene;
   scene.pour.spheres = balls;

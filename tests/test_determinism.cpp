@@ -4,6 +4,7 @@
 
 #include "engine/pour_scene.h"
 #include "engine/state_hash.h"
+#include "engine/thread_share.h"
 #include "tiny_world.h"
 
 using namespace ballpit;
@@ -12,6 +13,7 @@ namespace {
 
 std::uint64_t pour_hash(int threads, int steps, std::size_t n) {
   omp_set_num_threads(threads);
+  const FullTeams full;  // every system on every thread, whatever team_for would choose
   test::Sim s;
   PourScene scene;
   scene.spheres = n;
@@ -24,9 +26,8 @@ std::uint64_t pour_hash(int threads, int steps, std::size_t n) {
 }  // namespace
 
 TEST(Determinism, OneAndTwoThreadsGiveTheSameStateHashAfterSixHundredPourSteps) {
-  // 3000 balls: enough slabs (18) for both threads to take part in every sweep, and enough
-  // spheres and contacts (11k once settled) that the narrowphase and the solver run both
-  // (kRowsPerThread, kContactsPerThread). The grid's two-thread sort is compared in test_grid.
+  // 3000 balls: enough slabs (18) for both threads to take part in every sweep; FullTeams runs
+  // every system on both, as small work would not.
   std::uint64_t one = pour_hash(1, 600, 3000);
   std::uint64_t two = pour_hash(2, 600, 3000);
   EXPECT_EQ(hash_hex(one), hash_hex(two));

@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "engine/thread_share.h"
 #include "systems/grid.h"
 #include "systems/narrowphase.h"
 #include "tiny_world.h"
@@ -166,9 +167,9 @@ TEST(Narrowphase, EverySphereWithinReachOfAJointColliderGetsItsContactOnce) {
 // them as it makes the contacts, from two threads at once, so the marks must be exactly the rows
 // of the pairs (spanning slabs or not) that carried load.
 TEST(Narrowphase, MarksExactlyTheRowsOfLoadedPairsAsPiled) {
+  const FullTeams full;  // two threads, on rows that team_for might leave to one
   test::Sim s;
   test::make_pit(s.world, 0.5f, 0.0f, 0.5f);
-  // Enough rows for two threads (narrowphase.cpp gives each at least 1,024).
   for (int i = 0; i < 2500; ++i)
     test::add_ball(s.world, Vec3(-0.44f + 0.0629f * (i % 15), 0.04f + 0.0801f * (i / 225), -0.44f + 0.0629f * (i / 15 % 15)));
   for (int i = 0; i < 10; ++i) test::add_ball(s.world, Vec3(-0.4f + 0.09f * i, 5.0f, 0.0f));  // still falling, alone

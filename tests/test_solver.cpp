@@ -244,9 +244,10 @@ TEST(Solver, HowSlabsAreGroupedChangesNoBit) {
 }
 
 TEST(Solver, IntegratingInTheSweepsChangesNoBit) {
-  // Each thread kicks and moves its own rows in its even sweep instead of in passes of their
-  // own; on any team and any grouping that must be the same arithmetic on every body, in time
+  // Each thread kicks and moves its own rows in its even sweep instead of on an equal share of
+  // rows; on any team and any grouping that must be the same arithmetic on every body, in time
   // for every contact that touches it.
+  const FullTeams full;  // the solver on the whole team: 1,500 spheres alone would get one thread
   for (int threads : {1, 2})
     for (int slabs : {0, 1}) {
       const TeamSize team(threads);

@@ -15,6 +15,7 @@
 #include "engine/pour_scene.h"
 #include "engine/scheduler.h"
 #include "engine/state_hash.h"
+#include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/grid.h"
 #include "systems/narrowphase.h"
@@ -150,6 +151,7 @@ struct Pour {
   Scheduler scheduler;
   FixedStepLoop loop;
   SubstepControlSystem* control = nullptr;
+  FullTeams full;  // every system on every thread, whatever team_for would choose for 1,500 balls
   explicit Pour(double tolerance, int threads = 1, std::size_t n = 1500)
       : scheduler(threads), loop(world, scheduler) {
     omp_set_num_threads(threads);

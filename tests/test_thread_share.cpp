@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
 #include <random>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -123,6 +125,35 @@ TEST(ThreadShare, SmallWorkGetsASmallTeam) {
     EXPECT_EQ(seen, 1);
   }
   EXPECT_EQ(omp_get_max_threads(), 2) << "TeamSize gives the caller its team size back";
+}
+
+TEST(ThreadShare, PassiveWaitsAskMoreWorkOfAThread) {
+  // The tests run with OMP_WAIT_POLICY=passive (tests/CMakeLists.txt, scripts/test.sh); the
+  // threshold follows the policy the OpenMP runtime was given.
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const bool passive = policy != nullptr && std::string_view(policy) == "passive";
+  EXPECT_EQ(threads_wait_passively(), passive);
+  omp_set_num_threads(2);
+  const PerThread per_thread{.spinning = 1000, .passive = 4000};
+  EXPECT_EQ(team_for(2000, per_thread), passive ? 1 : 2);
+  EXPECT_EQ(team_for(8000, per_thread), 2);
+  EXPECT_EQ(team_for(1999, per_thread), 1);
+}
+
+TEST(ThreadShare, FullTeamsGiveEveryThreadToAnyWork) {
+  omp_set_num_threads(2);
+  {
+    const FullTeams outer;
+    {
+      const FullTeams inner;
+      EXPECT_EQ(team_for(1, 1024), 2);
+    }
+    EXPECT_EQ(team_for(0, PerThread{1024, 4096}), 2) << "the outer scope still holds";
+    omp_set_num_threads(1);
+    EXPECT_EQ(team_for(1 << 20, 1024), 1) << "never more than the caller's team";
+    omp_set_num_threads(2);
+  }
+  EXPECT_EQ(team_for(1, 1024), 1);
 }
 
 }  // namespace
