@@ -59,12 +59,18 @@ void sphere_section(Session& session, ViewState& view) {
   }
 }
 
+// Under the substeps slider, and under the solver section's header while it is closed: a pile
+// sinking into itself is worth seeing without opening anything.
+void substep_warning(Session& session) {
+  if (const int needed = accurate_substeps(session.world().step()); session.world().solver.substeps < needed)
+    ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "piles sink past 1%% of r below %d substeps", needed);
+}
+
 void solver_section(Session& session) {
   SolverSettings& solver = session.world().solver;
   int substeps = solver.substeps;
   if (ImGui::SliderInt("substeps", &substeps, 1, 16)) session.set_substeps(substeps);
-  if (const int needed = accurate_substeps(session.world().step()); solver.substeps < needed)
-    ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "piles sink past 1%% of r below %d substeps", needed);
+  substep_warning(session);
   float e = session.restitution();
   if (ImGui::SliderFloat("restitution", &e, 0.0f, 1.0f, "%.2f")) session.set_restitution(e);
   float mu = session.friction();
@@ -129,6 +135,7 @@ void draw_hud(Session& session, ViewState& view, const Profiler& frame_profiler,
     if (ImGui::CollapsingHeader("timings", ImGuiTreeNodeFlags_DefaultOpen)) timing_section(session, frame_profiler, stats);
     if (ImGui::CollapsingHeader("balls", ImGuiTreeNodeFlags_DefaultOpen)) sphere_section(session, view);
     if (ImGui::CollapsingHeader("solver")) solver_section(session);
+    else substep_warning(session);
     if (ImGui::CollapsingHeader("run", ImGuiTreeNodeFlags_DefaultOpen)) run_section(session, view);
     if (ImGui::CollapsingHeader("view")) view_section(session, view);
   } catch (const Error& e) {
