@@ -54,12 +54,21 @@ V3<float> xyz(const Quad& q) { return {q.x, q.y, q.z}; }
 Quad quad(const V3<float>& v, float w) { return {v.x, v.y, v.z, w}; }
 V3<float> v3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-// The sphere table's state into the solver's quads (systems/solver_bodies.h), with the step's
-// mobility (0 while asleep: a sleeper acts as fixed) and spin as r w; the padding bodies after.
-void load_bodies(const SphereTable& spheres, SolverBodies& bodies) {
+// The solver's quads for the sphere table's rows, their state still to be loaded (load_rows),
+// and the padding bodies after them: immobile, unit radius, 4 m apart in a row a million metres
+// from any pit.
+void size_bodies(const SphereTable& spheres, SolverBodies& bodies) {
   const std::size_t n = spheres.size();
   bodies.rows = n;
   bodies.body.resize(n + SolverBodies::kPadRows);
+  for (std::size_t k = n; k < n + SolverBodies::kPadRows; ++k) {
+    bodies.body[k] = {{}, {}, {-1e6f - 4.0f * static_cast<float>(k - n), -1e6f, -1e6f, 1.0f}, {}};
+  }
+}
+
+// Rows [first, last) of the sphere table's state into the solver's quads (systems/solver_bodies.h),
+// with the step's mobility (0 while asleep: a sleeper acts as fixed) and spin as r w.
+void load_rows(const SphereTable& spheres, SolverBodies& bodies, std::size_t first, std::size_t last) {
   auto x = spheres.position();
   auto v = spheres.velocity();
   auto r = spheres.radius();
@@ -67,18 +76,12 @@ void load_bodies(const SphereTable& spheres, SolverBodies& bodies) {
   auto asleep = spheres.asleep();
   const bool angular = spheres.has_angular();
   auto w = angular ? spheres.angular_velocity() : std::span<const Vec3>{};
-  const std::int64_t rows = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < rows; ++i) {
+  for (std::size_t i = first; i < last; ++i) {
     SolverBody& b = bodies.body[i];
     b.velocity = {v[i].x(), v[i].y(), v[i].z(), asleep[i] ? 0.0f : inv_mass[i]};
     b.spin = angular ? Quad{r[i] * w[i].x(), r[i] * w[i].y(), r[i] * w[i].z(), 0.0f} : Quad{};
     b.position = {x[i].x(), x[i].y(), x[i].z(), r[i]};
     b.pseudo = {};
-  }
-  // Padding: immobile, unit radius, 4 m apart in a row a million metres from any pit.
-  for (std::size_t k = n; k < n + SolverBodies::kPadRows; ++k) {
-    bodies.body[k] = {{}, {}, {-1e6f - 4.0f * static_cast<float>(k - n), -1e6f, -1e6f, 1.0f}, {}};
   }
 }
 
@@ -353,9 +356,14 @@ void list_colliders(SlabGroup& group) {
       if (c.b & kColliderTag) group.colliders.push_back({&c, c.normal_impulse, c.friction_impulse, 0.0f});
 }
 
-// Each group's planes and pairs into batches; the pairs that span slabs into batches of their
-// own. Groups of one parity share the `last_batch` scratch: they hold no row in common.
-void pack_all(World& world, SolverScratch& scratch) {
+// The sphere table's state into the solver's bodies, each group's planes and pairs into
+// batches, and the pairs that span slabs into batches of their own. One team does the first
+// two: each parallel region wakes the team, which costs tens of microseconds where threads
+// wait passively. Groups of one parity share the `last_batch` scratch: they hold no row in
+// common, but groups of the other parity do, so the parities are packed one after the other.
+void load_and_pack(World& world, SolverScratch& scratch) {
+  const SphereTable& spheres = world.spheres;
+  size_bodies(spheres, scratch.bodies);
   group_slabs(world, scratch);
   scratch.last_batch.assign(scratch.bodies.rows + SolverBodies::kPadRows, 0);
   // Spheres resting in a pile (ContactSet::piled, marked by the narrowphase) get no exact-bounce
@@ -368,28 +376,35 @@ void pack_all(World& world, SolverScratch& scratch) {
   if (piled.size() != scratch.bodies.rows)
     throw Error("solver: the contacts mark piled spheres for " + std::to_string(piled.size()) +
                 " rows, the world has " + std::to_string(scratch.bodies.rows) + " (the narrowphase must run first)");
-  PackInput in{world.spheres.radius(), piled, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
-               scratch.last_batch};
+  const PackInput in{spheres.radius(), piled, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
+                     scratch.last_batch};
   const bool colliders = world.colliders.size() > 0;
-  for (int parity = 0; parity < 2; ++parity) {
-    std::vector<SlabGroup>& groups = scratch.groups[parity];
-    // Planes, then pairs: the pairs' stamp lies above the planes'.
-    PackInput planes = in, pairs = in;
-    planes.stamp = in.stamp + kStampStride;
-    pairs.stamp = planes.stamp + kStampStride;
-    in.stamp = pairs.stamp;
-    // Each thread packs about the stretch it will solve, into its own cache (the passes split by
-    // batches, known only now, which moves at most a group between threads).
 #pragma omp parallel
-    {
-      const auto [first, last] = group_share(scratch.contacts_before[parity]);
-      for (int g = first; g < last; ++g) {
+  {
+    const auto [first, last] = thread_share(static_cast<int>(scratch.bodies.rows), [](int k) { return std::size_t(k); });
+    load_rows(spheres, scratch.bodies, static_cast<std::size_t>(first), static_cast<std::size_t>(last));
+    for (int parity = 0; parity < 2; ++parity) {
+      if (parity == 1) {
+#pragma omp barrier
+      }
+      std::vector<SlabGroup>& groups = scratch.groups[parity];
+      // Planes, then pairs, each with a stamp above every packing's before it.
+      PackInput planes = in, pairs = in;
+      planes.stamp = in.stamp + (2 * parity + 1) * kStampStride;
+      pairs.stamp = in.stamp + (2 * parity + 2) * kStampStride;
+      // Each thread packs about the stretch it will solve, into its own cache (the passes split
+      // by batches, known only now, which moves at most a group between threads).
+      const auto [first_group, last_group] = group_share(scratch.contacts_before[parity]);
+      for (int g = first_group; g < last_group; ++g) {
         pack_planes(groups[g].statics, planes, groups[g].planes);
         pack_pairs(groups[g].pairs, pairs, groups[g].pair_batches);
         groups[g].colliders.clear();
         if (colliders) list_colliders(groups[g]);
       }
     }
+  }
+  for (int parity = 0; parity < 2; ++parity) {
+    const std::vector<SlabGroup>& groups = scratch.groups[parity];
     std::vector<std::size_t>& before = scratch.batches_before[parity];
     before.assign(groups.size() + 1, 0);
     for (std::size_t g = 0; g < groups.size(); ++g)
@@ -399,8 +414,9 @@ void pack_all(World& world, SolverScratch& scratch) {
   for (const SlabContacts& s : world.contacts.slabs)
     scratch.serial_pairs.insert(scratch.serial_pairs.end(), s.serial.begin(), s.serial.end());
   std::vector<Contact>* serial = &scratch.serial_pairs;
-  in.stamp += kStampStride;
-  pack_pairs({&serial, 1}, in, scratch.serial);
+  PackInput spanning = in;
+  spanning.stamp = in.stamp + 5 * kStampStride;
+  pack_pairs({&serial, 1}, spanning, scratch.serial);
 }
 
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
@@ -505,8 +521,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   const float h = world.step() / static_cast<float>(substeps);
   const std::size_t rows = spheres.size();
 
-  load_bodies(spheres, scratch.bodies);
-  pack_all(world, scratch);
+  load_and_pack(world, scratch);
   const bool sleepers = std::any_of(spheres.asleep().begin(), spheres.asleep().end(), [](std::uint8_t s) { return s != 0; });
   world.contacts.wake_requests.assign(rows, 0);
 
