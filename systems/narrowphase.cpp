@@ -440,35 +440,6 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   for (auto* column : {&scratch.x, &scratch.y, &scratch.z, &scratch.radius, &scratch.margin}) column->resize(padded);
   scratch.flags.resize(padded);
 
-  // Summaries of last step's cache entries, made in the cache's own (old row) order so the
-  // entries are read straight through, then gathered into this step's rows below.
-  const ContactSet& previous = world.contacts;
-  const std::int64_t old_rows = previous.warm_begin.empty() ? 0 : static_cast<std::int64_t>(previous.warm_begin.size() - 1);
-  scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
-#pragma omp parallel for schedule(static)
-  for (std::int64_t o = 0; o < old_rows; ++o) {
-    std::uint32_t summary = 0;
-    for (std::uint32_t k = previous.warm_begin[o]; k < previous.warm_begin[o + 1]; ++k)
-      summary |= partner_bit(previous.warm[k].partner);
-    scratch.cached_by_old_row[o] = summary;
-  }
-
-  scratch.cached.resize(n);
-  std::span<const std::uint32_t> new_to_old = grid.new_to_old;
-  const std::int64_t count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < count; ++i) {
-    float m = asleep[i] ? kMinMarginFraction * r[i] : speculative_margin(v[i].norm(), dt, g, r[i]);
-    scratch.x[i] = x[i].x();
-    scratch.y[i] = x[i].y();
-    scratch.z[i] = x[i].z();
-    scratch.radius[i] = r[i];
-    scratch.margin[i] = m;
-    scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : 0u);
-    const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
-    scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
-  }
-
   const std::size_t mc = world.materials.size();
   std::vector<Material> pair_material(mc * mc);
   for (std::size_t a = 0; a < mc; ++a)
@@ -516,10 +487,41 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     contacts.piled.data()};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
 
-  // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each
-  // thread writes the lists of the stretch of the pit whose contacts it will pack and solve.
+  // Summaries of last step's cache entries, made in the cache's own (old row) order so the
+  // entries are read straight through, then gathered into this step's rows; then the search.
+  // One team does all three, with a barrier after each of the first two (each parallel region
+  // wakes the team, which costs tens of microseconds where threads wait passively).
+  const ContactSet& previous = world.contacts;
+  const std::int64_t old_rows = previous.warm_begin.empty() ? 0 : static_cast<std::int64_t>(previous.warm_begin.size() - 1);
+  scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
+  scratch.cached.resize(n);
+  std::span<const std::uint32_t> new_to_old = grid.new_to_old;
+  const std::int64_t count = static_cast<std::int64_t>(n);
 #pragma omp parallel
   {
+#pragma omp for schedule(static)
+    for (std::int64_t o = 0; o < old_rows; ++o) {
+      std::uint32_t summary = 0;
+      for (std::uint32_t k = previous.warm_begin[o]; k < previous.warm_begin[o + 1]; ++k)
+        summary |= partner_bit(previous.warm[k].partner);
+      scratch.cached_by_old_row[o] = summary;
+    }  // and the loop's barrier
+
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < count; ++i) {
+      float m = asleep[i] ? kMinMarginFraction * r[i] : speculative_margin(v[i].norm(), dt, g, r[i]);
+      scratch.x[i] = x[i].x();
+      scratch.y[i] = x[i].y();
+      scratch.z[i] = x[i].z();
+      scratch.radius[i] = r[i];
+      scratch.margin[i] = m;
+      scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : 0u);
+      const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
+      scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
+    }  // and the loop's barrier
+
+    // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each
+    // thread writes the lists of the stretch of the pit whose contacts it will pack and solve.
     const auto [first, last] = thread_share(slabs, [&](int s) { return std::size_t{grid.slab_row_begin(s)}; });
     for (int s = first; s < last; ++s) {
       SlabContacts& out = contacts.slabs[s];
