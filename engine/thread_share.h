@@ -59,6 +59,11 @@ std::pair<int, int> thread_share(int count, CostBefore&& cost_before) {
   return share_of(omp_get_thread_num(), omp_get_num_threads(), count, cost_before);
 }
 
+// The calling thread's share of `count` items of equal cost, inside an OpenMP parallel region.
+inline std::pair<int, int> equal_share(int count) {
+  return thread_share(count, [](int k) { return static_cast<std::size_t>(k); });
+}
+
 // Whether this process's OpenMP threads wait passively (OMP_WAIT_POLICY=passive, as
 // scripts/run.sh, the reports and the tests set it; read once, as the OpenMP runtime reads it).
 // A waiting thread then sleeps, and waking it for the next parallel region or past a barrier

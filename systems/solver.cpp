@@ -129,7 +129,7 @@ void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spher
   }
 }
 
-// What the threads that run the substeps share (systems/solver.cpp, solve_contacts).
+// What the threads that run the substeps share (solve_contacts).
 struct SolverTeam {
   explicit SolverTeam(int substeps) : shifted(static_cast<std::size_t>(substeps)) {}
   // Per substep: its Relax pass moved spheres by impact shifts (the kept frames are stale).
@@ -254,7 +254,7 @@ struct Step {
   void sweep(int sub) {
     if constexpr (pass != ContactPass::Solve) {
       if (scratch.even_group_rows.empty()) {
-        const auto [first, last] = thread_share(static_cast<int>(scratch.bodies.rows), [](int k) { return std::size_t(k); });
+        const auto [first, last] = equal_share(static_cast<int>(scratch.bodies.rows));
         integrate_rows<pass>(static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last));
 #pragma omp barrier
       }
@@ -381,7 +381,7 @@ void load_and_pack(World& world, SolverScratch& scratch) {
   const bool colliders = world.colliders.size() > 0;
 #pragma omp parallel
   {
-    const auto [first, last] = thread_share(static_cast<int>(scratch.bodies.rows), [](int k) { return std::size_t(k); });
+    const auto [first, last] = equal_share(static_cast<int>(scratch.bodies.rows));
     load_rows(spheres, scratch.bodies, static_cast<std::size_t>(first), static_cast<std::size_t>(last));
     for (int parity = 0; parity < 2; ++parity) {
       if (parity == 1) {
