@@ -82,6 +82,8 @@ inline bool threads_wait_passively() {
 struct PerThread {
   std::size_t spinning;
   std::size_t passive;
+
+  std::size_t when(bool waits_passively) const { return waits_passively ? passive : spinning; }
 };
 
 namespace detail {
@@ -99,7 +101,7 @@ inline int team_for(std::size_t work, std::size_t per_thread) {
 }
 
 inline int team_for(std::size_t work, PerThread per_thread) {
-  return team_for(work, threads_wait_passively() ? per_thread.passive : per_thread.spinning);
+  return team_for(work, per_thread.when(threads_wait_passively()));
 }
 
 // For its lifetime, every system takes the calling thread's whole team whatever its work, so a
