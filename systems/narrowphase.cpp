@@ -414,6 +414,10 @@ float speculative_margin(float speed, float dt, float gravity, float radius) {
   return speed * dt + gravity * dt * dt + kMinMarginFraction * radius;
 }
 
+float pair_margin(float speed, float dt, float gravity, float radius) {
+  return speed * dt + 0.25f * gravity * dt * dt + kMinMarginFraction * radius;
+}
+
 Access NarrowphaseSystem::access() const {
   Access a;
   a.reads = {ColumnId::SpherePosition, ColumnId::SphereVelocity, ColumnId::SphereRadius,
@@ -509,7 +513,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
 
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < count; ++i) {
-      float m = asleep[i] ? kMinMarginFraction * r[i] : speculative_margin(v[i].norm(), dt, g, r[i]);
+      float m = asleep[i] ? kMinMarginFraction * r[i] : pair_margin(v[i].norm(), dt, g, r[i]);
       scratch.x[i] = x[i].x();
       scratch.y[i] = x[i].y();
       scratch.z[i] = x[i].z();
@@ -537,7 +541,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       for (std::uint32_t i = begin; i < end; ++i) {
         // Copies: the lists' stores would otherwise force a reload per plane.
         const Vec3 xi = x[i];
-        const float ri = r[i], m = scratch.margin[i];
+        const float ri = r[i], m = asleep[i] ? kMinMarginFraction * ri : speculative_margin(v[i].norm(), dt, g, ri);
         const Material& mat = pit_material[search.material[i]];
         // Sleepers get their planes and colliders too: the wake system may wake them before
         // the solver runs, and a woken ball must still have its floor.

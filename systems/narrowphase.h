@@ -24,7 +24,7 @@ class World;
 struct NarrowphaseScratch {
   Column<float> x, y, z;              // position (unit: m)
   Column<float> radius;               // (unit: m)
-  Column<float> margin;               // speculative margin (unit: m)
+  Column<float> margin;               // speculative margin against spheres, pair_margin (unit: m)
   Column<std::uint32_t> flags;        // margin exceeds a one-cell search; asleep
   // Summary of the row's warm-start entries: bit partner_bit(p) is set for every partner p
   // they name, so a clear bit proves a pair absent (narrowphase.cpp). Made by last step's row
@@ -41,6 +41,11 @@ inline constexpr float kMinMarginFraction = 0.05f;
 // distance it can cover, plus the gravity drop twice over for the velocity it gains, plus the
 // minimum above.
 float speculative_margin(float speed, float dt, float gravity, float radius);
+
+// The same sphere's margin against another sphere. Gravity moves both alike, so a pair closes
+// under it only where one sphere falls and the other is held up: by at most 1/2 g dt^2, half
+// of which each side's margin covers. Speed and the minimum count as above.
+float pair_margin(float speed, float dt, float gravity, float radius);
 
 // Fills world.contacts from the current (grid-sorted) rows. Deterministic for any thread
 // count: each slab's lists depend only on its rows.
