@@ -1,5 +1,7 @@
 #include "engine/sphere_table.h"
 
+#include <omp.h>
+
 #include <cmath>
 #include <sstream>
 #include <type_traits>
@@ -134,22 +136,46 @@ void SphereTable::each_column(Table& table, F&& f) {
 void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
   each_column(*this, [](auto& column, auto& target) { target.resize(column.size()); });
   const std::int64_t n = static_cast<std::int64_t>(entity_.size());
+  moved_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   // One team for every column, each thread taking the same rows of each (nowait: no column
-  // waits for another), then the entity -> row map from the gathered entities. A region per
-  // column made eleven wake-ups of the team a step.
+  // waits for another). A region per column made eleven wake-ups of the team a step.
 #pragma omp parallel
   {
-    each_column(*this, [&](auto& column, auto& target) {
-      const std::int64_t rows = static_cast<std::int64_t>(column.size());  // 0 or n
-#pragma omp for schedule(static) nowait
-      for (std::int64_t i = 0; i < rows; ++i) target[i] = column[new_to_old[i]];
-    });
-#pragma omp barrier
-    const auto& entity = targets_.entity;
+    // A settled pit's reorder moves a tenth of the rows or less (100k pour: 4 to 13%): each
+    // thread lists the rows of its share that move and copies only those, through the
+    // targets and back. A busier reorder gathers every row and swaps the columns whole.
+    std::vector<std::uint32_t>& mine = moved_[static_cast<std::size_t>(omp_get_thread_num())];
+    mine.clear();
 #pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < n; ++i) row_of_[entity[i]] = static_cast<std::uint32_t>(i);
+    for (std::int64_t i = 0; i < n; ++i)
+      if (new_to_old[i] != static_cast<std::uint32_t>(i)) mine.push_back(static_cast<std::uint32_t>(i));
+    std::size_t moved = 0;  // after the loop's barrier, every thread's list is complete
+    for (int t = 0; t < omp_get_num_threads(); ++t) moved += moved_[static_cast<std::size_t>(t)].size();
+    if (2 * moved < static_cast<std::size_t>(n)) {
+      each_column(*this, [&](auto& column, auto& target) {
+        if (!column.empty())
+          for (std::uint32_t i : mine) target[i] = column[new_to_old[i]];
+      });
+#pragma omp barrier
+      each_column(*this, [&](auto& column, auto& target) {
+        if (!column.empty())
+          for (std::uint32_t i : mine) column[i] = target[i];
+      });
+      for (std::uint32_t i : mine) row_of_[entity_[i]] = i;
+    } else {
+      each_column(*this, [&](auto& column, auto& target) {
+        const std::int64_t rows = static_cast<std::int64_t>(column.size());  // 0 or n
+#pragma omp for schedule(static) nowait
+        for (std::int64_t i = 0; i < rows; ++i) target[i] = column[new_to_old[i]];
+      });
+#pragma omp barrier
+#pragma omp single
+      each_column(*this, [](auto& column, auto& target) { column.swap(target); });
+      // and the single's barrier
+#pragma omp for schedule(static)
+      for (std::int64_t i = 0; i < n; ++i) row_of_[entity_[i]] = static_cast<std::uint32_t>(i);
+    }
   }
-  each_column(*this, [](auto& column, auto& target) { column.swap(target); });
 }
 
 std::size_t SphereTable::bytes_per_sphere() const {

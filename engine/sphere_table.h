@@ -121,6 +121,7 @@ class SphereTable {
     Column<std::uint32_t> color, entity, generation;
     Column<std::uint8_t> asleep;
   } targets_;
+  std::vector<std::vector<std::uint32_t>> moved_;  // permute(): each thread's rows that move
 };
 
 }  // namespace ballpit
