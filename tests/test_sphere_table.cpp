@@ -22,6 +22,35 @@ TEST(SphereTable, HandlesFollowEveryReorder) {
   }
 }
 
+// Few rows moving take permute()'s other path (only those rows are copied), as a settled pit's
+// reorders do; every sphere must still be found with all of its own values.
+TEST(SphereTable, AReorderThatMovesFewRowsKeepsEveryColumnWithItsEntity) {
+  const TeamSize team(2);
+  World w;
+  std::vector<Entity> e;
+  for (int i = 0; i < 100; ++i)
+    e.push_back(test::add_ball(w, Vec3(float(i), 0, 0), Vec3(0, float(i), 0), 0.001f * float(i + 1)));
+  std::vector<std::uint32_t> order(100);
+  std::iota(order.begin(), order.end(), 0u);
+  std::swap(order[3], order[4]);  // a swap within the first thread's share
+  std::swap(order[10], order[90]);  // one across both shares
+  order[50] = 51, order[51] = 52, order[52] = 50;  // a cycle of three
+  for (int pass = 0; pass < 2; ++pass) {  // and back: the inverse moves the same rows
+    w.spheres.permute(order);
+    for (int i = 0; i < 100; ++i) {
+      const std::uint32_t row = w.spheres.row(e[i]);
+      EXPECT_EQ(w.spheres.position()[row].x(), float(i));
+      EXPECT_EQ(w.spheres.velocity()[row].y(), float(i));
+      EXPECT_EQ(w.spheres.radius()[row], 0.001f * float(i + 1));
+      EXPECT_EQ(w.spheres.entity_at(row), e[i]);
+    }
+    std::vector<std::uint32_t> inverse(100);
+    for (std::uint32_t k = 0; k < 100; ++k) inverse[order[k]] = k;
+    order = inverse;
+  }
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(w.spheres.row(e[i]), static_cast<std::uint32_t>(i));
+}
+
 TEST(SphereTable, ReordersBetweenAddsAndRemovesKeepEveryColumnWithItsEntity) {
   // permute() gathers into columns it keeps from the last reorder: they must take the table's
   // size each time, and leave nothing of the last reorder's rows behind.
