@@ -69,10 +69,10 @@ void pack_planes(ContactLists lists, const PackInput& in, BatchList& out);
 // and reading those.
 inline constexpr std::size_t kPrefetchReadBatches = 4;
 
-// Calls f(a, b, normal_impulse, friction_impulse) for the contact of each used lane, in batch
-// order: what the passes left in the batches.
-template <class F>
-void for_each_contact(const BatchList& list, F&& f) {
+// Calls f(a, b, normal_impulse, friction_impulse) for the lanes lanes_of(batch) names in each
+// batch, in batch order: what the passes left in the batches.
+template <class LanesOf, class F>
+void for_each_lane_of(const BatchList& list, LanesOf&& lanes_of, F&& f) {
   for (std::size_t k = 0; k < list.size(); ++k) {
     if (k + kPrefetchReadBatches < list.size()) {
       const ContactBatch& ahead = list[k + kPrefetchReadBatches];
@@ -80,11 +80,30 @@ void for_each_contact(const BatchList& list, F&& f) {
       for (const void* column : {ahead.normal_impulse, ahead.fx, ahead.fy, ahead.fz}) __builtin_prefetch(column);
     }
     const ContactBatch& batch = list[k];
-    for (std::uint32_t used = batch.used; used != 0; used &= used - 1) {
-      const int lane = std::countr_zero(used);
+    for (std::uint32_t lanes = lanes_of(batch); lanes != 0; lanes &= lanes - 1) {
+      const int lane = std::countr_zero(lanes);
       f(batch.a[lane], batch.b[lane], batch.normal_impulse[lane], Vec3(batch.fx[lane], batch.fy[lane], batch.fz[lane]));
     }
   }
+}
+
+// Every contact of the batches.
+template <class F>
+void for_each_contact(const BatchList& list, F&& f) {
+  for_each_lane_of(list, [](const ContactBatch& batch) { return batch.used; }, f);
+}
+
+// The contacts that end with a normal impulse (> 0, so not NaN), picked from a batch's lanes
+// all at once: a test per contact, taken or not as the pile has it, was a mispredicted branch
+// for about one contact in three, and writing the warm-start cache cost a third more.
+template <class F>
+void for_each_loaded_contact(const BatchList& list, F&& f) {
+  for_each_lane_of(list, [](const ContactBatch& batch) {
+    std::uint32_t loaded = 0;
+    for (int lane = 0; lane < kBatchLanes; ++lane)
+      loaded |= static_cast<std::uint32_t>(batch.normal_impulse[lane] > 0.0f) << lane;
+    return loaded & batch.used;
+  }, f);
 }
 
 }  // namespace ballpit

@@ -434,13 +434,15 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
   std::swap(cs.warm_begin, scratch.previous_warm_begin);
   std::swap(cs.warm, scratch.previous_warm);
   cs.warm_begin.assign(n + 1, 0);
-  // f(a, b, normal impulse, friction impulse) for every contact of a group. A group's contacts
-  // belong to its own rows, so groups count and fill independently, each on the thread that
-  // solved it, whose cache still holds its batches.
+  // f(a, b, normal impulse, friction impulse) for every contact of a group that ends with a
+  // normal impulse (> 0, so not NaN): only those are kept. A group's contacts belong to its own
+  // rows, so groups count and fill independently, each on the thread that solved it, whose
+  // cache still holds its batches.
   auto each_in_group = [](const SlabGroup& group, auto&& f) {
-    for_each_contact(group.planes, f);
-    for_each_contact(group.pair_batches, f);
-    for (const ColliderContact& c : group.colliders) f(c.contact->a, c.contact->b, c.normal_impulse, c.friction_impulse);
+    for_each_loaded_contact(group.planes, f);
+    for_each_loaded_contact(group.pair_batches, f);
+    for (const ColliderContact& c : group.colliders)
+      if (c.normal_impulse > 0.0f) f(c.contact->a, c.contact->b, c.normal_impulse, c.friction_impulse);
   };
   auto each = [&](auto&& f) {
 #pragma omp parallel
@@ -448,7 +450,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
       const auto [first, last] = group_share(scratch.batches_before[parity]);
       for (int g = first; g < last; ++g) each_in_group(scratch.groups[parity][g], f);
     }
-    for_each_contact(scratch.serial, f);  // rows of any slab: after the groups
+    for_each_loaded_contact(scratch.serial, f);  // rows of any slab: after the groups
   };
   // Two sleepers' pair is neither found nor solved, so its entry would leave the cache in the
   // first step both sleep: the sleeping pile would lose the links that make it one pile
@@ -473,9 +475,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
   };
   const std::int64_t rows = static_cast<std::int64_t>(n);
 
-  each([&](std::uint32_t a, std::uint32_t, float normal, const Vec3&) {
-    if (normal > 0.0f) ++cs.warm_begin[a + 1];
-  });
+  each([&](std::uint32_t a, std::uint32_t, float, const Vec3&) { ++cs.warm_begin[a + 1]; });
   if (keep) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t i = 0; i < rows; ++i)
@@ -485,7 +485,6 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
   cs.warm.resize(cs.warm_begin[n]);
   std::vector<std::uint32_t> cursor(cs.warm_begin.begin(), cs.warm_begin.end() - 1);
   each([&](std::uint32_t a, std::uint32_t b, float normal, const Vec3& friction) {
-    if (!(normal > 0.0f)) return;  // the counting pass's test exactly (NaN too)
     const std::uint32_t partner = (b & kTagMask) ? b : entity[b];
     cs.warm[cursor[a]++] = {partner, normal, friction};
   });
