@@ -265,9 +265,13 @@ struct Step {
 #pragma omp barrier
       }
       const auto [first, last] = group_share(scratch.batches_before[parity]);
-      if (pass != ContactPass::Solve && parity == 0 && !scratch.even_group_rows.empty())
-        integrate_rows<pass>(scratch.even_group_rows[first], scratch.even_group_rows[last]);
-      for (int g = first; g < last; ++g) sweep_group<pass>(scratch.groups[parity][g], result);
+      for (int g = first; g < last; ++g) {
+        // Group by group: the rows just kicked or moved are still in the core's cache when the
+        // group's sweep reads them (a thread's whole share of a 100k pit is not).
+        if (pass != ContactPass::Solve && parity == 0 && !scratch.even_group_rows.empty())
+          integrate_rows<pass>(scratch.even_group_rows[g], scratch.even_group_rows[g + 1]);
+        sweep_group<pass>(scratch.groups[parity][g], result);
+      }
     }
     // One barrier fewer than a `single` after a barrier: the last thread to arrive has seen every
     // other thread's sweep (acquire), and the others wait for it at the pass's end.
