@@ -4,8 +4,9 @@
 // Reads: sphere positions, velocities, radii, materials, sleep, rows; grid; colliders.
 // Writes: contacts (the lists, and the rows resting in a pile: ContactSet::piled).
 // Decision: contacts are speculative. A pair is kept when its gap is below the sum of both
-// spheres' margins (distance each can travel this step), so the solver can stop a fast sphere
-// at the surface instead of finding it inside, or past, its partner next step.
+// spheres' margins (distance each can travel this step, relative to the other: pair_margin),
+// so the solver can stop a fast sphere at the surface instead of finding it inside, or past,
+// its partner next step.
 #pragma once
 
 #include <cstdint>
@@ -37,9 +38,9 @@ struct NarrowphaseScratch {
 // cannot pass along it within the step (Newton's cradle).
 inline constexpr float kMinMarginFraction = 0.05f;
 
-// Speculative margin of a sphere moving at `speed` for one step dt under gravity g: the
-// distance it can cover, plus the gravity drop twice over for the velocity it gains, plus the
-// minimum above.
+// Speculative margin of a sphere moving at `speed` for one step dt under gravity g, against a
+// pit plane or a joint collider: the distance it can cover, plus the gravity drop twice over
+// for the velocity it gains, plus the minimum above.
 float speculative_margin(float speed, float dt, float gravity, float radius);
 
 // The same sphere's margin against another sphere. Gravity moves both alike, so a pair closes
