@@ -188,6 +188,16 @@ void run_batches(ContactBatch* begin, ContactBatch* end, SolverBodies& bodies, c
     if (end - batch > kPrefetchAhead)
       for (std::size_t line = 0; line < sizeof(ContactBatch); line += 64)
         __builtin_prefetch(reinterpret_cast<const char*>(batch + kPrefetchAhead) + line);
+    // And the next batch's bodies, whose rows that batch's columns (fetched a batch ago) now
+    // name: each lane's gather waited on its body's line, 32 of them a batch, from wherever the
+    // last pass had left them (the 100k pour, 2 threads: solver 30.5 -> 27.9 ms a step).
+    if (end - batch > 1) {
+      const ContactBatch& next = batch[1];
+      for (int k = 0; k < kBatchLanes; ++k) {
+        __builtin_prefetch(&bodies.body[next.a[k]], 1);
+        if constexpr (kind == BatchKind::Pairs) __builtin_prefetch(&bodies.body[next.b[k]], 1);
+      }
+    }
     for (int first = 0; first < kBatchLanes; first += kLanes) {
       const LaneSlice slice{*batch, first};
       if (slice.bits(batch->used)) run_slice<pass, spin, kind>(slice, bodies, args, result);  // padding changes nothing
