@@ -410,12 +410,14 @@ struct SlabSearch {
 
 }  // namespace
 
-float speculative_margin(float speed, float dt, float gravity, float radius) {
-  return speed * dt + gravity * dt * dt + kMinMarginFraction * radius;
-}
-
 float pair_margin(float speed, float dt, float gravity, float radius) {
   return speed * dt + 0.25f * gravity * dt * dt + kMinMarginFraction * radius;
+}
+
+float static_margin_extra(float dt, float gravity) { return 0.75f * gravity * dt * dt; }
+
+float speculative_margin(float speed, float dt, float gravity, float radius) {
+  return pair_margin(speed, dt, gravity, radius) + static_margin_extra(dt, gravity);
 }
 
 Access NarrowphaseSystem::access() const {
@@ -471,6 +473,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
 
   const Pit& pit = world.pit;
   const PitPlanes pit_planes(pit);
+  const float static_extra = static_margin_extra(dt, g);
 
   ContactSet& contacts = world.contacts;
   const int slabs = grid.nx;
@@ -541,7 +544,9 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       for (std::uint32_t i = begin; i < end; ++i) {
         // Copies: the lists' stores would otherwise force a reload per plane.
         const Vec3 xi = x[i];
-        const float ri = r[i], m = asleep[i] ? kMinMarginFraction * ri : speculative_margin(v[i].norm(), dt, g, ri);
+        // The row's pair margin, made above from the same speed (speculative_margin); a sleeper
+        // keeps the minimum against everything.
+        const float ri = r[i], m = scratch.margin[i] + (asleep[i] ? 0.0f : static_extra);
         const Material& mat = pit_material[search.material[i]];
         // Sleepers get their planes and colliders too: the wake system may wake them before
         // the solver runs, and a woken ball must still have its floor.

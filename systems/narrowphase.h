@@ -38,15 +38,19 @@ struct NarrowphaseScratch {
 // cannot pass along it within the step (Newton's cradle).
 inline constexpr float kMinMarginFraction = 0.05f;
 
-// Speculative margin of a sphere moving at `speed` for one step dt under gravity g, against a
-// pit plane or a joint collider: the distance it can cover, plus the gravity drop twice over
-// for the velocity it gains, plus the minimum above.
-float speculative_margin(float speed, float dt, float gravity, float radius);
-
-// The same sphere's margin against another sphere. Gravity moves both alike, so a pair closes
-// under it only where one sphere falls and the other is held up: by at most 1/2 g dt^2, half
-// of which each side's margin covers. Speed and the minimum count as above.
+// Speculative margin of a sphere moving at `speed` for one step dt under gravity g, against
+// another sphere: the distance it can cover, plus the minimum above, plus a quarter of g dt^2.
+// Gravity moves both spheres alike, so a pair closes under it only where one sphere falls and
+// the other is held up: by at most 1/2 g dt^2, half of which each side's margin covers.
 float pair_margin(float speed, float dt, float gravity, float radius);
+
+// What a margin against a pit plane or a joint collider adds to the pair margin: those do not
+// fall with the sphere, so it covers the whole gravity drop twice over, for the velocity the
+// sphere gains (g dt^2 in all).
+float static_margin_extra(float dt, float gravity);
+
+// The same sphere's margin against a pit plane or a joint collider.
+float speculative_margin(float speed, float dt, float gravity, float radius);
 
 // Fills world.contacts from the current (grid-sorted) rows. Deterministic for any thread
 // count: each slab's lists depend only on its rows.
