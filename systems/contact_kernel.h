@@ -44,10 +44,6 @@ inline V3<T> select(M m, const V3<T>& a, const V3<T>& b) {
   return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
 }
 
-// For a solid sphere r^2 / I = 5 / (2 m): a tangential impulse J at the surface changes r w by
-// 2.5 J / m, while it changes v by J / m.
-inline constexpr float kSphereSpinFactor = 2.5f;
-
 using Pass = ContactPass;
 
 // A contact as one pass sees it (per lane for T = Lanes).
@@ -201,6 +197,17 @@ struct ContactKernel {
     if (any(over)) next = select(over, (limit / sqrt(len2)) * next, next);
     c.friction_impulse = select(keep, next, old);
     apply_tangential<spin, spin_b>(c, c.friction_impulse - old);
+
+    // Spinning friction, once a substep (in Relax: Solve meets a static partner twice): a
+    // torque of at most mu N kTwistArmFraction r about the normal changes r w . n by at most
+    // mu N kTwistArmFraction kSphereSpinFactor / m (the radius cancels). Between spheres the
+    // arms would need both radii, which the passes do not all load; a ball spinning about a line
+    // of centres is rare, and its other contacts brake it.
+    if constexpr (spin && static_partner && pass == Pass::Relax) {
+      const T twist = dot(c.sa, c.n);
+      const T most = broadcast<T>(kTwistArmFraction * kSphereSpinFactor) * c.friction * c.normal_impulse * c.ma;
+      c.sa = c.sa - max(min(twist, most), -most) * c.n;
+    }
   }
 };
 

@@ -132,6 +132,27 @@ TEST(Solver, ASlidingBallEndsRollingAtFiveSeventhsOfItsSpeed) {
   EXPECT_NEAR(w.z(), -v.x() / 0.04f, 0.01f * v.x() / 0.04f);           // rolls without slipping
 }
 
+TEST(Solver, ABallSpinningOnTheFloorStopsAtItsSpinningFrictionsRate) {
+  // Spinning friction (systems/contact_kernel.h): a torque of mu N kTwistArmFraction r about the
+  // floor's normal slows w by mu g kTwistArmFraction kSphereSpinFactor / r = 30.66 rad/s^2 here
+  // (N is the ball's weight from the first substep on). Spun at 10 rad/s about the vertical, it
+  // turns at 10 - 30.66 / 6 = 4.89 rad/s after 10 steps, then stops for good: friction never
+  // reverses a spin. The 0.1% slack is float rounding over 40 substeps.
+  test::Sim s;
+  test::make_pit(s.world, 1.0f, 0.0f, 0.5f);
+  const float r = 0.04f;
+  Entity e = test::add_ball(s.world, Vec3(0, r, 0));
+  s.world.spheres.mut_angular_velocity()[s.world.spheres.row(e)] = Vec3(0, 10, 0);
+  s.start();
+  auto spin = [&] { return s.world.spheres.angular_velocity()[s.world.spheres.row(e)]; };
+  s.step(10);
+  const float slowing = 0.5f * 9.81f * kTwistArmFraction * kSphereSpinFactor / r;
+  EXPECT_NEAR(spin().y(), 10.0f - slowing / 6.0f, 0.001f * 10.0f);
+  s.step(20);
+  EXPECT_EQ(spin().y(), 0.0f);
+  EXPECT_LT(s.velocity(e).norm(), 1e-6f) << "a twist moves nothing";
+}
+
 TEST(Solver, WithoutRestitutionABallDoesNotBounce) {
   test::Sim s;
   test::make_pit(s.world, 1.0f, 0.0f, 0.0f);
