@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "engine/error.h"
@@ -31,10 +32,11 @@ using StaticState = generic::ContactState<float, bool>;
 
 // Fewest contacts worth a thread of their own. Threads spinning: a settled pile of 1k spheres
 // (3.7k contacts) solved in 0.81 ms on 1 thread and 0.92 ms on 2; one of 3k (11k) in 2.06 and
-// 1.78 ms. Waiting passively, each of the step's two dozen barriers wakes a thread: the pour's
-// settled solve took 1.46 / 1.91 ms on 1 / 2 threads at 3k spheres, 2.50 / 2.46 at 5k (about
-// 19k contacts) and 4.65 / 3.82 at 10k.
-constexpr PerThread kContactsPerThread{.spinning = 4096, .passive = 10240};
+// 1.78 ms. Waiting passively, with a barrier between the parities and after every pass, each
+// of which woke a thread, 2 threads paid only from 5k spheres (about 19k contacts); with waits
+// only where groups meet (Step::sweep), the pour's solve over its first 5 s took 0.77 / 0.82 ms
+// on 1 / 2 threads at 2k spheres, 1.17 / 1.03 at 3k and 1.99 / 1.42 at 5k.
+constexpr PerThread kContactsPerThread{.spinning = 4096, .passive = 4096};
 
 // Slabs packed into one stream of batches, and groups a thread (group_slabs).
 constexpr int kMinSlabsPerGroup = 2;
@@ -131,10 +133,32 @@ void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spher
 
 // What the threads that run the substeps share (solve_contacts).
 struct SolverTeam {
-  explicit SolverTeam(int substeps) : shifted(static_cast<std::size_t>(substeps)) {}
+  SolverTeam(int substeps, const std::vector<SlabGroup> (&groups)[2])
+      : shifted(static_cast<std::size_t>(substeps)),
+        group_swept{std::vector<std::atomic<int>>(groups[0].size()), std::vector<std::atomic<int>>(groups[1].size())} {}
   // Per substep: its Relax pass moved spheres by impact shifts (the kept frames are stale).
   std::vector<std::atomic<std::uint8_t>> shifted;
   std::atomic<std::uint64_t> swept{0};  // threads through their odd groups, over all passes
+  // Per parity and group: the last pass (Step::pass_number) that swept it.
+  std::vector<std::atomic<int>> group_swept[2];
+
+  // Waits until the groups [first, last) of a parity are through pass `pass`. A short wait
+  // spins; a long one (the other thread descheduled) yields the core.
+  void wait_for(int parity, int first, int last, int pass) const {
+    const std::vector<std::atomic<int>>& swept_by = group_swept[parity];
+    for (int g = first; g < last; ++g)
+      for (int spins = 0; swept_by[static_cast<std::size_t>(g)].load(std::memory_order_acquire) < pass; ++spins) {
+        if (spins < kSpinsBeforeYield) relax_cpu();
+        else std::this_thread::yield();
+      }
+  }
+
+  static constexpr int kSpinsBeforeYield = 1 << 14;
+  static void relax_cpu() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
 };
 
 // The state of one step's solve that is not the world's: bodies, batches, flags.
@@ -151,6 +175,8 @@ struct Step {
   // limb sweeps the step in substep-sized moves instead of jumping a whole step at once.
   float collider_time = 0.0f;
   SolverTeam* shared = nullptr;  // what the threads that run the substeps share
+  int pass_number = 0;           // passes begun this step, this one included
+  bool ended_at_barrier = true;  // the last pass ended at a barrier (so did the step's start)
 
   // A joint collider as seen by sphere row a: normal from the sphere into the collider, gap, and
   // the collider's surface velocity there.
@@ -243,36 +269,55 @@ struct Step {
     if constexpr (pass == ContactPass::Relax) integrate_positions(scratch.bodies, first, last, args.params.h, gravity);
   }
 
-  // One pass, run by every thread of the solver's team: its even groups, a barrier, its odd
-  // groups, then the pairs that span slabs (they may touch any row) on the last thread through
-  // its odd groups, and a barrier. No two slabs swept at once share a sphere, so the result is
-  // the same for any number of threads. An even group's contacts touch only its rows
-  // (SolverScratch::even_group_rows), so each thread integrates its groups' rows first where
-  // that is part of the pass; without such rows every thread integrates an equal share, and all
-  // wait for the others before sweeping.
+  // One pass, run by every thread of the solver's team: its even groups, then its odd groups,
+  // then the pairs that span slabs (they may touch any row) on the last thread through its odd
+  // groups. No two slabs swept at once share a sphere, so the result is the same for any number
+  // of threads. Threads do not wait for each other's whole sweeps, only for the groups that meet
+  // the one they are about to sweep (SlabGroup::meets_first): an odd group for those even groups
+  // in the same pass, an even group for those odd groups in the pass before. Barriers between
+  // the parities and between passes made whichever thread was through first wait for the other
+  // every time, and with passive waits also woke it: on 2 threads waiting passively, the 100k
+  // pour's settled solve took 22.5 ms a step with them and 21.8 without, the 10k pour's settled
+  // step 4.04 and 3.37 ms (medians of 5 and 3 runs in turn). Each thread sweeps its even groups
+  // last to first: its last ones are what the next thread's first odd groups wait for, its
+  // first ones what the previous thread's last odd groups do. A pass still ends at a barrier
+  // where the next one needs every thread's: after Relax (its impact shifts decide, for every
+  // thread, whether the kept frames still hold), where pairs span slabs, and where rows are
+  // integrated in equal shares rather than by group (SolverScratch::even_group_rows).
   template <ContactPass pass>
   void sweep(int sub) {
+    const int number = ++pass_number;
+    const bool by_group = !scratch.even_group_rows.empty();
     if constexpr (pass != ContactPass::Solve) {
-      if (scratch.even_group_rows.empty()) {
+      if (!by_group) {
         const auto [first, last] = equal_share(static_cast<int>(scratch.bodies.rows));
         integrate_rows<pass>(static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last));
 #pragma omp barrier
       }
     }
     BatchPassResult result;
-    for (int parity = 0; parity < 2; ++parity) {
-      if (parity == 1) {
-#pragma omp barrier
-      }
-      const auto [first, last] = group_share(scratch.batches_before[parity]);
-      for (int g = first; g < last; ++g) {
+    {
+      const auto [first, last] = group_share(scratch.batches_before[0]);
+      for (int g = last - 1; g >= first; --g) {
+        SlabGroup& group = scratch.groups[0][g];
+        if (!ended_at_barrier) shared->wait_for(1, group.meets_first, group.meets_last, number - 1);
         // Group by group: the rows just kicked or moved are still in the core's cache when the
         // group's sweep reads them (a thread's whole share of a 100k pit is not).
-        if (pass != ContactPass::Solve && parity == 0 && !scratch.even_group_rows.empty())
+        if (pass != ContactPass::Solve && by_group)
           integrate_rows<pass>(scratch.even_group_rows[g], scratch.even_group_rows[g + 1]);
-        sweep_group<pass>(scratch.groups[parity][g], result);
+        sweep_group<pass>(group, result);
+        shared->group_swept[0][static_cast<std::size_t>(g)].store(number, std::memory_order_release);
       }
     }
+    const auto [first, last] = group_share(scratch.batches_before[1]);
+    for (int g = first; g < last; ++g) {
+      SlabGroup& group = scratch.groups[1][g];
+      shared->wait_for(0, group.meets_first, group.meets_last, number);
+      sweep_group<pass>(group, result);
+      shared->group_swept[1][static_cast<std::size_t>(g)].store(number, std::memory_order_release);
+    }
+    ended_at_barrier = pass == ContactPass::Relax || !scratch.serial.empty() || !by_group;
+    if (!ended_at_barrier) return;
     // One barrier fewer than a `single` after a barrier: the last thread to arrive has seen every
     // other thread's sweep (acquire), and the others wait for it at the pass's end.
     const std::uint64_t arrived = shared->swept.fetch_add(1, std::memory_order_acq_rel) + 1;
@@ -334,6 +379,21 @@ void group_slabs(World& world, SolverScratch& scratch) {
     }
     groups.resize(used);
   }
+  // The groups each group meets: the other parity's groups holding the slabs beside its first
+  // and last slab, and all between (groups are runs of slabs).
+  std::vector<int> group_of(static_cast<std::size_t>(count), 0);
+  for (const std::vector<SlabGroup>& groups : scratch.groups)
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      for (int s : groups[g].slabs) group_of[static_cast<std::size_t>(s)] = static_cast<int>(g);
+  for (std::vector<SlabGroup>& groups : scratch.groups)
+    for (SlabGroup& group : groups) {
+      group.meets_first = group.meets_last = 0;
+      const int before = group.slabs.front() > 0 ? group.slabs.front() - 1 : group.slabs.front() + 1;
+      const int after = group.slabs.back() + 1 < count ? group.slabs.back() + 1 : group.slabs.back() - 1;
+      if (before < 0 || after < 0 || before >= count || after >= count || before > after) continue;  // one slab
+      group.meets_first = group_of[static_cast<std::size_t>(before)];
+      group.meets_last = group_of[static_cast<std::size_t>(after)] + 1;
+    }
   // The even groups' rows, when the slabs are the grid's x slabs (engine/contact_set.h).
   std::vector<std::uint32_t>& rows = scratch.even_group_rows;
   rows.clear();
@@ -540,7 +600,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   // is a wake-up of the team, which costs tens of microseconds where threads wait passively.
   // Every thread runs the whole loop on its own copy of the step's pass settings, which all
   // compute alike from what they share.
-  SolverTeam team_state(substeps);
+  SolverTeam team_state(substeps, scratch.groups);
   step.shared = &team_state;
 #pragma omp parallel firstprivate(step)
   for (int sub = 0; sub < substeps; ++sub) {

@@ -65,6 +65,11 @@ struct SlabGroup {
   std::vector<std::vector<Contact>*> statics, pairs;  // the slabs' lists
   BatchList planes, pair_batches;
   std::vector<ColliderContact> colliders;  // among the statics, in list order
+  // The other parity's groups [meets_first, meets_last) whose contacts or rows meet this
+  // group's: those of the slabs beside each of its slabs. An odd group is swept after these in
+  // each pass, and an even group after these in the pass before, and after no others, so a
+  // thread need not wait for every thread's sweep to end (systems/solver.cpp, Step::sweep).
+  int meets_first = 0, meets_last = 0;
 };
 
 // What the solver keeps between steps only to reuse its memory, and two choices that change no

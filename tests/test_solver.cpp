@@ -295,6 +295,29 @@ TEST(Solver, IntegratingInTheSweepsChangesNoBit) {
     }
 }
 
+TEST(Solver, AnyTeamGivesTheStateOfOneThread) {
+  // Threads wait for each other only where their groups meet (systems/solver.cpp, Step::sweep):
+  // a group swept before a group it meets is through, or while it is still being swept, would
+  // show here. More threads than cores (this machine has 2) and one slab to a group give the
+  // most meeting groups on different threads, in the most interleavings.
+  const FullTeams full;  // the solver on the whole team: 1,500 spheres alone would get one thread
+  for (int slabs : {0, 1}) {
+    SolverScratch one;
+    one.slabs_per_group = slabs;
+    std::string expected;
+    {
+      const TeamSize team(1);
+      expected = pour_hash_with(one);
+    }
+    for (int threads : {2, 3, 4}) {
+      const TeamSize team(threads);
+      SolverScratch scratch;
+      scratch.slabs_per_group = slabs;
+      EXPECT_EQ(pour_hash_with(scratch), expected) << threads << " threads, slabs per group " << slabs;
+    }
+  }
+}
+
 TEST(Solver, DefaultGroupsGiveEachThreadAnEqualShare) {
   // A thread takes whole groups, so groups of unequal work, or a number of groups the team does
   // not divide, leave one thread waiting on the other at the end of every pass. 12k spheres: a
