@@ -32,8 +32,9 @@
 // sweep, over groups of such slabs packed together (one slab's list is too much of a chain to
 // fill the lanes); then the pairs that span slabs. Each thread takes the same contiguous run of
 // groups in every pass (engine/thread_share.h), so the bodies and batches it touches stay in
-// its core's cache. The result is the same for any number of threads, any grouping and any
-// instruction set.
+// its core's cache, and waits only for the other threads' groups beside the one it is about to
+// solve, not for whole sweeps (a barrier ends each substep). The result is the same for any
+// number of threads, any grouping and any instruction set.
 #pragma once
 
 #include <cstdint>
