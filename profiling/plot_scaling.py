@@ -137,8 +137,9 @@ def main():
         f.write("\nOpenMP wait 'default' is the engine as shipped (GNU OpenMP spins while a thread "
                 "waits at a barrier); 'passive' is the same run with OMP_WAIT_POLICY=passive. On a "
                 "quiet machine the default is faster, and most so at small N, where a step is "
-                "short: a passive thread sleeps at every barrier (the solver has several per "
-                "substep) and must be woken. When other processes share the cores it turns round: "
+                "short: a passive thread sleeps whenever it waits for the other (at the start of "
+                "each parallel region and at each barrier: the solver has one per substep) and "
+                "must be woken. When other processes share the cores it turns round: "
                 "a spinning thread whose partner has been descheduled wastes its time slice at "
                 "every barrier, and the default can be many times slower than 1 thread. "
                 "Speed-ups are against the 1-thread run of the same N.\n")
