@@ -138,7 +138,8 @@ struct SolverTeam {
         group_swept{std::vector<std::atomic<int>>(groups[0].size()), std::vector<std::atomic<int>>(groups[1].size())} {}
   // Per substep: its Relax pass moved spheres by impact shifts (the kept frames are stale).
   std::vector<std::atomic<std::uint8_t>> shifted;
-  std::atomic<std::uint64_t> swept{0};  // threads through their odd groups, over all passes
+  // Threads through their odd groups, over the passes that end at a barrier.
+  std::atomic<std::uint64_t> swept{0};
   // Per parity and group: the last pass (Step::pass_number) that swept it.
   std::vector<std::atomic<int>> group_swept[2];
 
@@ -385,12 +386,14 @@ void group_slabs(World& world, SolverScratch& scratch) {
   for (const std::vector<SlabGroup>& groups : scratch.groups)
     for (std::size_t g = 0; g < groups.size(); ++g)
       for (int s : groups[g].slabs) group_of[static_cast<std::size_t>(s)] = static_cast<int>(g);
+  // With two slabs or more, the slab before the first (after it, at the pit's start) and the one
+  // after the last (before it, at the end) are of the other parity and in the grid.
   for (std::vector<SlabGroup>& groups : scratch.groups)
     for (SlabGroup& group : groups) {
-      group.meets_first = group.meets_last = 0;
+      group.meets_first = group.meets_last = 0;  // a single slab meets nothing
+      if (count < 2) continue;
       const int before = group.slabs.front() > 0 ? group.slabs.front() - 1 : group.slabs.front() + 1;
       const int after = group.slabs.back() + 1 < count ? group.slabs.back() + 1 : group.slabs.back() - 1;
-      if (before < 0 || after < 0 || before >= count || after >= count || before > after) continue;  // one slab
       group.meets_first = group_of[static_cast<std::size_t>(before)];
       group.meets_last = group_of[static_cast<std::size_t>(after)] + 1;
     }

@@ -1,5 +1,6 @@
 // The contact solver on worlds of one to three spheres, against closed-form answers.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <map>
@@ -311,6 +312,7 @@ TEST(Solver, AnyTeamGivesTheStateOfOneThread) {
     }
     for (int threads : {2, 3, 4}) {
       const TeamSize team(threads);
+      ASSERT_EQ(omp_get_max_threads(), threads) << "the solver must run on the team asked for";
       SolverScratch scratch;
       scratch.slabs_per_group = slabs;
       EXPECT_EQ(pour_hash_with(scratch), expected) << threads << " threads, slabs per group " << slabs;
