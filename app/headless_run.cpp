@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <chrono>
-#include <optional>
 #include <cstdio>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "app/step_warnings.h"
+#include "engine/atomic_file.h"
 #include "engine/error.h"
 #include "engine/fixed_step_loop.h"
 #include "engine/memory_budget.h"
@@ -83,6 +85,15 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   if (o.threads < 1) throw Error("--threads must be >= 1");
   if (o.tolerance_r != 0.0 && !(o.tolerance_r > 0.0 && o.tolerance_r <= 1.0))
     throw Error("--tolerance must be in (0, 1] (largest overlap after a step, as a fraction of the ball radius)");
+  // Output paths are checked before the run: a long run must not end in a failed write.
+  for (const auto& [flag, path] : {std::pair{"--trace", &o.trace_path}, std::pair{"--save", &o.save_path}}) {
+    if (path->empty()) continue;
+    try {
+      check_writable(*path);
+    } catch (const Error& e) {
+      throw Error(std::string(flag) + ": " + e.what() + "; nothing was run");
+    }
+  }
   omp_set_num_threads(o.threads);
 
   World world;

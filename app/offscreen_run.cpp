@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "app/gl_context.h"
@@ -14,6 +15,7 @@
 #include "app/offscreen_context.h"
 #include "app/render_target.h"
 #include "app/renderer.h"
+#include "engine/atomic_file.h"
 #include "engine/error.h"
 #include "engine/profiler.h"
 
@@ -44,6 +46,11 @@ double mean(const std::vector<double>& v) {
 nlohmann::ordered_json run_offscreen(const OffscreenOptions& o) {
   if (o.frames < 1) throw Error("--frames must be >= 1");
   if (o.screenshot.empty()) throw Error("--screenshot needs a file name");
+  try {
+    check_writable(o.screenshot);  // before the frames, not after them
+  } catch (const Error& e) {
+    throw Error(std::string("--screenshot: ") + e.what() + "; nothing was run");
+  }
 
   // The GL objects, or the reason there are none (only allowed when rendering is optional).
   std::unique_ptr<OffscreenContext> context;

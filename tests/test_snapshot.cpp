@@ -12,6 +12,7 @@
 #include <string>
 
 #include "character_fixture.h"
+#include "engine/atomic_file.h"
 #include "engine/error.h"
 #include "engine/pour_scene.h"
 #include "engine/snapshot.h"
@@ -232,6 +233,33 @@ TEST(Snapshot, AFailedSaveLeavesThePreviousFileIntact) {
 
   // A directory that does not exist: refused by name, nothing written.
   EXPECT_THROW(save_snapshot(a.world, dir.file("no/such/dir/pit.snap")), Error);
+}
+
+// What a run checks before it starts (its --save, --trace, --screenshot): the paths a write
+// would fail on are refused by name, and checking a good path leaves nothing behind.
+TEST(Snapshot, OutputPathsAreCheckedWithoutWritingAnything) {
+  TempDir dir;
+  auto refusal = [](const std::string& path) {
+    try {
+      check_writable(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string missing = dir.file("no/such/dir/pit.snap");
+  EXPECT_NE(refusal(missing).find("cannot write '" + missing + "'"), std::string::npos) << refusal(missing);
+  EXPECT_NE(refusal(dir.path.string()).find("it is a folder"), std::string::npos) << refusal(dir.path.string());
+  EXPECT_NE(refusal("").find("empty name"), std::string::npos);
+
+  EXPECT_EQ(refusal(dir.file("pit.snap")), "");
+  EXPECT_TRUE(fs::is_empty(dir.path)) << "a check must not leave a file, temporary or not";
+  test::Sim a;
+  build_pour(a, false);
+  save_snapshot(a.world, dir.file("pit.snap"));
+  const std::string saved = read_bytes(dir.file("pit.snap"));
+  EXPECT_EQ(refusal(dir.file("pit.snap")), "") << "an existing file may be replaced";
+  EXPECT_EQ(read_bytes(dir.file("pit.snap")), saved) << "checking must not change it";
 }
 
 TEST(Snapshot, AnInvalidSnapshotIsRefusedByFieldAndLeavesTheWorldUntouched) {
