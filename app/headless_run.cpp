@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
-#include <utility>
 #include <vector>
 
 #include "app/step_warnings.h"
@@ -85,15 +84,8 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   if (o.threads < 1) throw Error("--threads must be >= 1");
   if (o.tolerance_r != 0.0 && !(o.tolerance_r > 0.0 && o.tolerance_r <= 1.0))
     throw Error("--tolerance must be in (0, 1] (largest overlap after a step, as a fraction of the ball radius)");
-  // Output paths are checked before the run: a long run must not end in a failed write.
-  for (const auto& [flag, path] : {std::pair{"--trace", &o.trace_path}, std::pair{"--save", &o.save_path}}) {
-    if (path->empty()) continue;
-    try {
-      check_writable(*path);
-    } catch (const Error& e) {
-      throw Error(std::string(flag) + ": " + e.what() + "; nothing was run");
-    }
-  }
+  check_output_path("--trace", o.trace_path);
+  check_output_path("--save", o.save_path);
   omp_set_num_threads(o.threads);
 
   World world;
@@ -233,6 +225,15 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     report["max_speed_during_run_mps"] = round_to(fastest_ball, 6);  // SCENES.md: "the highest ball speed"
   }
   return report;
+}
+
+void check_output_path(std::string_view flag, const std::string& path) {
+  if (path.empty()) return;
+  try {
+    check_writable(path);
+  } catch (const Error& e) {
+    throw Error(std::string(flag) + ": " + e.what() + "; nothing was run");
+  }
 }
 
 nlohmann::ordered_json step_report(const std::string& scene, const World& world, int threads,

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -45,6 +46,11 @@ struct RunOptions {
 // Runs the scene and returns the report (also what the CLI prints). Throws ballpit::Error for
 // bad options, naming the flag.
 nlohmann::ordered_json run_headless(const RunOptions& options);
+
+// Throws ballpit::Error naming `flag` if a write of `path` at the run's end would fail
+// (check_writable, engine/atomic_file.h), so that it fails before the run instead; an empty
+// path is no output and passes.
+void check_output_path(std::string_view flag, const std::string& path);
 
 // The report line of a run that took step_ms (unit: ms) per step and ended in `world`; the
 // app's offscreen run reports the same fields.

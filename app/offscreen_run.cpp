@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "app/gl_context.h"
@@ -15,7 +14,6 @@
 #include "app/offscreen_context.h"
 #include "app/render_target.h"
 #include "app/renderer.h"
-#include "engine/atomic_file.h"
 #include "engine/error.h"
 #include "engine/profiler.h"
 
@@ -46,11 +44,7 @@ double mean(const std::vector<double>& v) {
 nlohmann::ordered_json run_offscreen(const OffscreenOptions& o) {
   if (o.frames < 1) throw Error("--frames must be >= 1");
   if (o.screenshot.empty()) throw Error("--screenshot needs a file name");
-  try {
-    check_writable(o.screenshot);  // before the frames, not after them
-  } catch (const Error& e) {
-    throw Error(std::string("--screenshot: ") + e.what() + "; nothing was run");
-  }
+  check_output_path("--screenshot", o.screenshot);  // before the frames, not after them
 
   // The GL objects, or the reason there are none (only allowed when rendering is optional).
   std::unique_ptr<OffscreenContext> context;

@@ -20,8 +20,8 @@ cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Debug -DBALLPIT_SANITIZE=thread \
 cmake --build build-tsan -j"$(nproc)" --target test_scheduler test_grid test_narrowphase test_solver
 # Left out here (the normal suite above runs them): the grid's 1-vs-2-thread comparison and the
 # solver's checks of each thread's share, of integrating in the sweeps and of teams of 2 to 4
-# start an OpenMP team in the uninstrumented libgomp, which TSan cannot see into (it reports the team's reads of
-# the caller's stack); the solver suite's pours (the 2,000-ball pile, the kept-frames check's
+# start an OpenMP team in the uninstrumented libgomp, which TSan cannot see into (it reports
+# the team's reads of the caller's stack); the solver suite's pours (the 2,000-ball pile, the kept-frames check's
 # two 1,000-ball pours, and the 1,500-ball pours that compare instruction sets and slab
 # groupings) take many minutes each in this unoptimised build and, with one OpenMP thread, run
 # only code the other solver tests run.
