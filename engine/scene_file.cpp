@@ -55,9 +55,10 @@ void parse_pit(const Json& j, ScenePit& pit, const std::string& source) {
 
 void parse_solver(const Json& j, SolverSettings& v, const std::string& source) {
   JsonFields f(j, "solver", source,
-               {"substeps", "push_out_rate", "push_out_speed", "restitution_threshold", "linear_damping",
+               {"substeps", "solve_sweeps", "push_out_rate", "push_out_speed", "restitution_threshold", "linear_damping",
                 "angular_damping", "narrowphase", "sleep_speed", "sleep_time", "wake_speed"});
   f.integer("substeps", v.substeps, 1, 64);
+  f.integer("solve_sweeps", v.solve_sweeps, 1, kMaxSolveSweeps);
   f.number("push_out_rate", v.push_out_rate, 0.0f, 1.0f, true, "unitless");
   f.number("push_out_speed", v.push_out_speed, 0.0f, kNoLimit, true, "m/s");
   f.number("restitution_threshold", v.restitution_threshold, 0.0f, kNoLimit, false, "m/s");
@@ -169,6 +170,7 @@ Json scene_to_json(const SceneFile& s) {
                    {"sleeping", s.solver.sleeping}};
   const SolverSettings& v = s.solver;
   j["solver"] = {{"substeps", v.substeps},
+                 {"solve_sweeps", v.solve_sweeps},
                  {"push_out_rate", v.push_out_rate},
                  {"push_out_speed", v.push_out_speed},
                  {"restitution_threshold", v.restitution_threshold},

@@ -19,15 +19,17 @@ using snapshot_io::Reader;
 using snapshot_io::Writer;
 
 constexpr char kMagic[8] = {'B', 'A', 'L', 'L', 'P', 'I', 'T', '\x1a'};
-// 2: characters and joint colliders (version 1 held spheres only).
-constexpr std::uint32_t kVersion = 2;
+// 2: characters and joint colliders (version 1 held spheres only). 3: the solver's Solve sweeps
+// per substep (a version 2 file is read with one, the only count it could have run).
+constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kOldestReadable = 2;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
 
 // A new field in these structs must be written and read below: these asserts fail the build
 // until it is (and the version is bumped).
 static_assert(sizeof(Material) == 8, "Material changed: update snapshot.cpp and kVersion");
 static_assert(sizeof(Pit) == 20, "Pit changed: update snapshot.cpp and kVersion");
-static_assert(sizeof(SolverSettings) == 40, "SolverSettings changed: update snapshot.cpp and kVersion");
+static_assert(sizeof(SolverSettings) == 44, "SolverSettings changed: update snapshot.cpp and kVersion");
 
 void put_material(Writer& w, const Material& m) {
   w.put(m.restitution);
@@ -188,6 +190,7 @@ std::string encode_snapshot(const Snapshot& s) {
   put_material(w, s.pit.material);
   const SolverSettings& v = s.solver;
   w.put(static_cast<std::int32_t>(v.substeps));
+  w.put(static_cast<std::int32_t>(v.solve_sweeps));
   w.put(v.push_out_rate);
   w.put(v.push_out_speed);
   w.put(v.restitution_threshold);
@@ -231,8 +234,8 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   if (version > kVersion)
     fail("format version " + std::to_string(version) + " is newer than this build reads (" + std::to_string(kVersion) +
          "); use a newer ballpit");
-  if (version < kVersion)
-    fail("format version " + std::to_string(version) + " is older than this build reads (" + std::to_string(kVersion) +
+  if (version < kOldestReadable)
+    fail("format version " + std::to_string(version) + " is older than this build reads (" + std::to_string(kOldestReadable) +
          ", which added character state); save the run again with this build");
   const std::uint64_t have = bytes.size() - kHeaderBytes;
   if (have < payload_bytes)
@@ -268,6 +271,7 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   s.pit.material = get_material(r, "pit.material");
   SolverSettings& v = s.solver;
   v.substeps = r.get<std::int32_t>("solver.substeps");
+  v.solve_sweeps = version >= 3 ? r.get<std::int32_t>("solver.solve_sweeps") : 1;
   v.push_out_rate = r.get<float>("solver.push_out_rate");
   v.push_out_speed = r.get<float>("solver.push_out_speed");
   v.restitution_threshold = r.get<float>("solver.restitution_threshold");

@@ -21,8 +21,16 @@ namespace ballpit {
 // profiling/reports/speed_error.md).
 inline constexpr float kLongestAccurateSubstep = 1.0f / 240.0f;
 
-// The fewest substeps that keep dt / substeps within kLongestAccurateSubstep.
-int accurate_substeps(float dt);
+// Substeps that a Solve sweep beyond the first stands in for, and the most sweeps that do: the 10k
+// pour at 1/60 s settles within 1% of r at 3 substeps of 2 sweeps (0.02%) and 2 of 3 (0.45%), not
+// at 2 of 2 (2.0%) nor 1 of 8 (1.8%) (profiling/reports/solve_sweeps/speed_error.md and runs of
+// `ballpit run --spheres 10000 --substeps S --set solver.solve_sweeps=N`).
+inline constexpr int kSubstepsPerExtraSweep = 1;
+inline constexpr int kMostSweepsThatReplaceSubsteps = 3;
+
+// The fewest substeps that keep a settled pile within 1% of r: dt / substeps within
+// kLongestAccurateSubstep, less what Solve sweeps beyond the first make up for.
+int accurate_substeps(float dt, int solve_sweeps = 1);
 
 // The longest step (unit: s) past which a step costs more per simulated second than shorter
 // ones, whatever its substeps: a ball's speculative margin grows with dt^2 and outgrows the
@@ -53,6 +61,10 @@ class World {
   // length: left as they were, a cache made at 3 substeps warm-started 32 with ten times the
   // load, and the pit-character case at --tolerance 0.01 flung a ball at 113 m/s.
   void set_substeps(int substeps);
+  // Sets the Solve sweeps per substep between steps (the app's slider); throws ballpit::Error,
+  // changing nothing, outside [1, kMaxSolveSweeps]. The warm-start cache stays as it is: its
+  // impulses are a substep's, however many sweeps made them.
+  void set_solve_sweeps(int sweeps);
 
   // What a user should know of dt and substeps (engine/world.cpp words it). Both are allowed
   // (the speed-error study runs long substeps): a long substep softens every contact, so a pile

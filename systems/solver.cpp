@@ -612,7 +612,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
     // The frames are now those of these positions, by the warm start or the last Relax, and
     // Solve keeps them (the reference mode has every pass compute its own).
     step.args.frames_current = settings.keep_pair_frames;
-    step.sweep<ContactPass::Solve>(sub);
+    for (int sweep = 0; sweep < settings.solve_sweeps; ++sweep) step.sweep<ContactPass::Solve>(sub);
     step.collider_time = static_cast<float>(sub + 1) * h;  // and where it ends, as the spheres now are
     step.sweep<ContactPass::Relax>(sub);
     step.args.frames_current = settings.keep_pair_frames && !team_state.shifted[static_cast<std::size_t>(sub)].load(std::memory_order_relaxed);

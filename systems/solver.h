@@ -1,9 +1,10 @@
 // Contact solver: Box2D v3's soft step, with sub-steps. Each substep integrates velocities,
-// re-applies the last substep's impulses (warm start), solves every contact once with a soft
-// push-out bias (capped at push_out_speed), moves the spheres, and relaxes (solves again with
-// no bias, so push-out never becomes bounce). Friction is Coulomb's at the contact point, plus,
-// against a pit plane or joint collider, a spinning friction about the normal (a contact patch
-// of kTwistArmFraction r, systems/batch_kernels.h). Impacts faster than the restitution threshold
+// re-applies the last substep's impulses (warm start), solves every contact once (or
+// SolverSettings::solve_sweeps times) with a soft push-out bias (capped at push_out_speed), moves
+// the spheres, and relaxes (solves again with no bias, so push-out never becomes bounce).
+// Friction is Coulomb's at the contact point, plus, against a pit plane or joint collider, a
+// spinning friction about the normal (a contact patch of kTwistArmFraction r,
+// systems/batch_kernels.h). Impacts faster than the restitution threshold
 // get their restitution when they happen, inside the substep, and the part of the substep
 // before the impact is accounted for exactly (impact_shift), so a dropped ball returns to e^2
 // of its height instead of losing a substep's worth of travel each bounce. After the last

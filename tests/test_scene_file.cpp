@@ -110,6 +110,7 @@ SceneFile every_field_moved() {
   s.features.angular = FeatureSwitch::On;
   s.features.character = FeatureSwitch::Off;
   s.solver.substeps = 3;
+  s.solver.solve_sweeps = 2;
   s.solver.push_out_rate = 0.3f;
   s.solver.push_out_speed = 2.0f;
   s.solver.restitution_threshold = 0.0f;
@@ -269,6 +270,8 @@ TEST(SceneFile, OutOfRangeValuesAreRefused) {
                 .find("populations.0.placement: expected a box inside the pit"),
             std::string::npos);
   EXPECT_NE(refusal(Json::parse(R"({"solver": {"substeps": 0}})")).find("solver.substeps: expected an integer in [1, 64]"),
+            std::string::npos);
+  EXPECT_NE(refusal(Json::parse(R"({"solver": {"solve_sweeps": 0}})")).find("solver.solve_sweeps: expected an integer in [1, 16]"),
             std::string::npos);
   EXPECT_NE(refusal(Json::parse(R"({"solver": {"narrowphase": "fast"}})")).find("solver.narrowphase: expected \"grid\" or \"naive\""),
             std::string::npos);
@@ -506,12 +509,13 @@ TEST(SceneFile, ABoxPopulationSkipsTheSpheresPlacedBeforeIt) {
 }
 
 TEST(SceneFile, BuildingASceneAppliesItsSolverAndGravity) {
-  SceneFile s = load_scene("", {"populations.0.count=300", "solver.substeps=5", "features.sleeping=true", "gravity=[0,-5,0]",
+  SceneFile s = load_scene("", {"populations.0.count=300", "solver.substeps=5", "solver.solve_sweeps=3", "features.sleeping=true", "gravity=[0,-5,0]",
                                 "dt=0.01"});
   World w;
   build_scene(s, w);
   EXPECT_EQ(w.spheres.size(), 300u);
   EXPECT_EQ(w.solver.substeps, 5);
+  EXPECT_EQ(w.solver.solve_sweeps, 3);
   EXPECT_TRUE(w.solver.sleeping);
   EXPECT_EQ(w.gravity().y(), -5.0f);
   EXPECT_EQ(w.step(), 0.01f);

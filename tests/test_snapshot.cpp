@@ -6,6 +6,7 @@
 
 #include <csignal>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -16,6 +17,7 @@
 #include "engine/error.h"
 #include "engine/pour_scene.h"
 #include "engine/snapshot.h"
+#include "engine/snapshot_io.h"
 #include "engine/state_hash.h"
 #include "engine/system.h"
 #include "systems/character_pipeline.h"
@@ -148,6 +150,54 @@ TEST(Snapshot, SaveLoadSaveGivesTheSameBytesAndTheSameNextEntity) {
   // The registry's free list came back in order: both worlds reuse the same slot next.
   EXPECT_EQ(a.world.entities.create(), b.entities.create());
   EXPECT_EQ(state_hash(a.world), state_hash(b));
+}
+
+// Version 3 added the Solve sweeps per substep. A version 2 file, which could only have run one,
+// still loads, with one, and resumes as the file it was made from does.
+TEST(Snapshot, SolveSweepsAreKeptAndAVersionTwoFileLoadsWithOne) {
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, false);
+  a.world.set_solve_sweeps(3);
+  a.step(5);
+  save_snapshot(a.world, dir.file("three.snap"));
+  World b;
+  load_snapshot(b, dir.file("three.snap"));
+  EXPECT_EQ(b.solver.solve_sweeps, 3);
+
+  a.world.set_solve_sweeps(1);
+  save_snapshot(a.world, dir.file("one.snap"));
+  const std::string v3 = read_bytes(dir.file("one.snap"));
+  // The solver block starts with substeps (4) and sweeps (1), then the push-out rate: cut the
+  // sweeps out, and make the header a version 2 one around the shorter payload.
+  const SolverSettings& s = a.world.solver;
+  std::string block(12, '\0');
+  const std::int32_t substeps = s.substeps, sweeps = 1;
+  std::memcpy(block.data(), &substeps, 4);
+  std::memcpy(block.data() + 4, &sweeps, 4);
+  std::memcpy(block.data() + 8, &s.push_out_rate, 4);
+  constexpr std::size_t kHeader = 32;  // magic, version, reserved, payload bytes, checksum
+  const std::size_t at = v3.find(block, kHeader);
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(v3.find(block, at + 1), std::string::npos) << "the solver block must be the only match";
+  std::string v2 = v3.substr(0, at + 4) + v3.substr(at + 8);
+  const std::uint32_t version = 2;
+  const std::uint64_t payload_bytes = v2.size() - kHeader;
+  const std::uint64_t checksum = snapshot_io::payload_checksum(std::string_view(v2).substr(kHeader));
+  std::memcpy(v2.data() + 8, &version, 4);
+  std::memcpy(v2.data() + 16, &payload_bytes, 8);
+  std::memcpy(v2.data() + 24, &checksum, 8);
+  write_bytes(dir.file("two.snap"), v2);
+
+  test::Sim from_v2, from_v3;
+  load_snapshot(from_v2.world, dir.file("two.snap"));
+  load_snapshot(from_v3.world, dir.file("one.snap"));
+  EXPECT_EQ(from_v2.world.solver.solve_sweeps, 1);
+  from_v2.start(2);
+  from_v3.start(2);
+  from_v2.step(5);
+  from_v3.step(5);
+  EXPECT_EQ(state_hash(from_v2.world), state_hash(from_v3.world));
 }
 
 TEST(Snapshot, TruncatedAtEveryTenthOfItsLengthIsRefused) {

@@ -61,6 +61,11 @@ TEST(Validation, UnknownMaterialAndBadSettingsAreRefused) {
   w.solver.substeps = 0;
   expect_mentions(error_of([&] { w.validate_settings(); }), {"solver.substeps"});
   w.solver.substeps = 8;
+  w.solver.solve_sweeps = 0;
+  expect_mentions(error_of([&] { w.validate_settings(); }), {"solver.solve_sweeps", "[1, 16]", "got 0"});
+  expect_mentions(error_of([&] { w.set_solve_sweeps(17); }), {"solver.solve_sweeps", "got 17"});
+  EXPECT_EQ(w.solver.solve_sweeps, 0) << "a refused count changes nothing";
+  w.solver.solve_sweeps = 1;
   w.pit.half_width = -1;
   expect_mentions(error_of([&] { w.validate_settings(); }), {"pit.half_width"});
   expect_mentions(error_of([&] { w.set_gravity(Vec3(0, std::nanf(""), 0)); }), {"gravity", "finite"});
@@ -75,6 +80,20 @@ TEST(Validation, ALongSubstepOrStepIsWarnedOfWithTheSubstepsNeeded) {
   EXPECT_EQ(accurate_substeps(1.0f / 60.0f), 4);
   w.set_substeps(3);
   expect_mentions(w.step_warnings().substep, {"5.56 ms", "3 substeps", "1/240 s", "4 substeps keep it within"});
+  // A Solve sweep beyond the first stands in for one substep, up to two of them: 3 substeps of 2
+  // sweeps and 2 of 3 keep a pile within 1% of r at 1/60 s, 2 of 2 and 1 of 8 do not.
+  EXPECT_EQ(accurate_substeps(1.0f / 60.0f, 2), 3);
+  EXPECT_EQ(accurate_substeps(1.0f / 60.0f, 3), 2);
+  EXPECT_EQ(accurate_substeps(1.0f / 60.0f, 8), 2);
+  w.set_solve_sweeps(2);
+  EXPECT_EQ(w.step_warnings().substep, "");
+  w.set_substeps(2);
+  expect_mentions(w.step_warnings().substep, {"8.33 ms", "2 substeps of 2 Solve sweeps", "3 substeps keep it within"});
+  w.set_solve_sweeps(8);
+  EXPECT_EQ(w.step_warnings().substep, "");
+  w.set_substeps(1);
+  expect_mentions(w.step_warnings().substep, {"1 substep of 8 Solve sweeps", "at most 2", "2 substeps keep it within"});
+  w.set_solve_sweeps(1);
   w.set_substeps(8);
   w.set_step(1.0f / 30.0f);  // the longest step without a cost warning, at substeps of 1/240 s
   EXPECT_EQ(w.step_warnings().substep, "");
