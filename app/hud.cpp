@@ -62,7 +62,8 @@ void sphere_section(Session& session, ViewState& view) {
 // Under the substeps slider, and under the solver section's header while it is closed: a pile
 // sinking into itself is worth seeing without opening anything.
 void substep_warning(Session& session) {
-  if (const int needed = accurate_substeps(session.world().step()); session.world().solver.substeps < needed)
+  const SolverSettings& solver = session.world().solver;
+  if (const int needed = accurate_substeps(session.world().step(), solver.solve_sweeps); solver.substeps < needed)
     ImGui::TextColored(ImVec4(1.0f, 0.7f, 0.3f, 1.0f), "piles sink past 1%% of r below %d substeps", needed);
 }
 
@@ -70,6 +71,8 @@ void solver_section(Session& session) {
   SolverSettings& solver = session.world().solver;
   int substeps = solver.substeps;
   if (ImGui::SliderInt("substeps", &substeps, 1, 16)) session.set_substeps(substeps);
+  int sweeps = solver.solve_sweeps;
+  if (ImGui::SliderInt("solve sweeps", &sweeps, 1, 4)) session.set_solve_sweeps(sweeps);
   substep_warning(session);
   float e = session.restitution();
   if (ImGui::SliderFloat("restitution", &e, 0.0f, 1.0f, "%.2f")) session.set_restitution(e);

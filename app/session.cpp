@@ -150,6 +150,12 @@ void Session::set_substeps(int substeps) {
   solver_overridden_ = true;
 }
 
+void Session::set_solve_sweeps(int sweeps) {
+  world_->set_solve_sweeps(sweeps);
+  solver_ = world_->solver;
+  solver_overridden_ = true;
+}
+
 void Session::set_narrowphase(NarrowphaseMode mode) {
   world_->solver.narrowphase = mode;
   solver_ = world_->solver;

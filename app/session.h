@@ -70,6 +70,7 @@ class Session {
   void set_restitution(float e);
   void set_friction(float mu);
   void set_substeps(int substeps);
+  void set_solve_sweeps(int sweeps);
   void set_narrowphase(NarrowphaseMode mode);
   float restitution() const;
   float friction() const;

@@ -93,17 +93,20 @@ TEST(Session, PouringAddsBallsAboveThePile) {
 TEST(Session, ResetRebuildsTheSceneButKeepsTheSolverSettingsTheUserChose) {
   Session s(pour(800));
   s.set_substeps(3);
+  s.set_solve_sweeps(2);
   s.set_restitution(0.8f);
   for (int i = 0; i < 10; ++i) s.single_step();
   s.pour(100);
   s.reset();
   EXPECT_EQ(s.world().spheres.size(), 800u);
   EXPECT_EQ(s.world().solver.substeps, 3);
+  EXPECT_EQ(s.world().solver.solve_sweeps, 2);
   EXPECT_FLOAT_EQ(s.world().materials.front().restitution, 0.8f);
   EXPECT_FLOAT_EQ(s.world().pit.material.restitution, 0.8f);
   // The same balls in the same places as a fresh session's.
   Session fresh(pour(800));
   fresh.set_substeps(3);
+  fresh.set_solve_sweeps(2);
   fresh.set_restitution(0.8f);
   EXPECT_EQ(state_hash(s.world()), state_hash(fresh.world()));
 }
@@ -154,6 +157,9 @@ TEST(Session, OutOfRangeSettingsAreRefusedWithTheirName) {
   EXPECT_THROW(s.set_restitution(1.5f), Error);
   EXPECT_THROW(s.set_friction(-0.1f), Error);
   EXPECT_THROW(s.set_substeps(0), Error);
+  EXPECT_THROW(s.set_solve_sweeps(0), Error);
+  EXPECT_THROW(s.set_solve_sweeps(kMaxSolveSweeps + 1), Error);
+  EXPECT_EQ(s.world().solver.solve_sweeps, 1);  // refused, so unchanged
   EXPECT_THROW(Session(SessionOptions{.scene = "swamp"}), Error);
 }
 
