@@ -144,6 +144,7 @@ Entity add(World& w, const Vec3& x, const Vec3& v = Vec3::Zero()) {
 
 void SolverPoint::apply(World& w) const {
   w.solver.substeps = substeps;
+  w.solver.solve_sweeps = solve_sweeps;
   w.solver.push_out_rate = push_out_rate;
   w.solver.push_out_speed = push_out_speed;
   w.solver.restitution_threshold = restitution_threshold;
@@ -155,6 +156,7 @@ nlohmann::ordered_json SolverPoint::to_json() const {
   j["point"] = label;
   if (tolerance_r > 0.0) j["tolerance_r"] = tolerance_r;  // substeps is then where it starts
   j["substeps"] = substeps;
+  j["solve_sweeps"] = solve_sweeps;
   j["push_out_rate"] = push_out_rate;
   j["substep_rate_hz"] = static_cast<float>(substeps) / dt;
   j["push_out_speed"] = push_out_speed;
@@ -174,6 +176,15 @@ std::string format_value(float v) {
 std::string tolerance_label(double tolerance) { return "tolerance=" + format_value(static_cast<float>(tolerance)); }
 
 std::string substeps_label(int substeps) { return "substeps=" + std::to_string(substeps); }
+
+// Substeps and Solve sweeps, each where it is not the default.
+std::string sweeps_label(int substeps, int sweeps) {
+  const std::string s = "sweeps=" + std::to_string(sweeps);
+  return substeps == SolverSettings{}.substeps ? s : substeps_label(substeps) + "," + s;
+}
+
+// Fewer substeps of more sweeps: the trades of sweeps_points(), each about as dear as the default.
+constexpr std::pair<int, int> kSweepTrades[] = {{3, 2}, {2, 3}};
 
 std::string substeps_push_label(int substeps, float push_out_rate) {
   return substeps_label(substeps) + ",push_rate=" + format_value(push_out_rate);
@@ -218,6 +229,15 @@ std::vector<SolverPoint> sweep_points() {
       p.substeps = old_substeps;
       p.push_out_rate = old_rate;
     });
+  // Solve sweeps per substep: more at the default substeps, and fewer substeps of more sweeps
+  // (a substep's warm start and relax cost about one sweep, so these cost about the default).
+  for (int n : {2, 3})
+    if (n != d.solve_sweeps) point(sweeps_label(d.substeps, n), [n](SolverPoint& p) { p.solve_sweeps = n; });
+  for (const auto& [sub, n] : kSweepTrades)
+    point(sweeps_label(sub, n), [sub, n](SolverPoint& p) {
+      p.substeps = sub;
+      p.solve_sweeps = n;
+    });
   for (float v : {0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f})
     if (v != d.push_out_speed) point("push_out=" + format_value(v), [v](SolverPoint& p) { p.push_out_speed = v; });
   // Step size: alone (fewer or more substeps per second), and with the substep rate kept.
@@ -246,7 +266,8 @@ std::vector<SolverPoint> big_pour_points() {
   for (const SolverPoint& p : sweep_points())
     // And the default before this one, which the big pour measures the move against.
     if (p.label == "default" || p.label == substeps_label(d.substeps / 2) || p.label == substeps_label(2 * d.substeps) ||
-        p.label == tolerance_label(kTolerancePoints[0]) || p.label == previous_default_label())
+        p.label == tolerance_label(kTolerancePoints[0]) || p.label == previous_default_label() ||
+        p.label == sweeps_label(kSweepTrades[0].first, kSweepTrades[0].second))
       out.push_back(p);
   return out;
 }

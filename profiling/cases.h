@@ -40,6 +40,7 @@ namespace ballpit::profiling {
 struct SolverPoint {
   std::string label = "default";
   int substeps = SolverSettings{}.substeps;
+  int solve_sweeps = SolverSettings{}.solve_sweeps;  // Gauss-Seidel sweeps of the Solve pass per substep
   float push_out_rate = SolverSettings{}.push_out_rate;  // fraction of overlap per substep
   float push_out_speed = SolverSettings{}.push_out_speed;  // (unit: m/s)
   float restitution_threshold = SolverSettings{}.restitution_threshold;  // (unit: m/s)
@@ -57,11 +58,12 @@ struct SolverPoint {
 inline constexpr double kTolerancePoints[] = {0.01, 0.003, 0.001};
 
 // The engine's defaults, then one-at-a-time variations around them (substeps, push-out rate,
-// push-out speed cap, step size at fixed and at scaled substeps, restitution threshold), then
-// tolerance mode at each of kTolerancePoints (from the default settings).
+// push-out speed cap, step size at fixed and at scaled substeps, restitution threshold, Solve
+// sweeps, alone and traded against substeps), then tolerance mode at each of kTolerancePoints
+// (from the default settings).
 std::vector<SolverPoint> sweep_points();
 // The few points run on the expensive big pour: the default, half and twice its substeps, the
-// previous default, and the loosest tolerance.
+// previous default, the loosest tolerance, and fewer substeps of more Solve sweeps.
 std::vector<SolverPoint> big_pour_points();
 
 // Results (errors, state hashes) are the same for any thread count: the engine is deterministic.

@@ -26,7 +26,7 @@ COST_NOISE = 0.10
 CASE_ORDER = ["bounce", "cradle", "stack", "gas", "crowd", "character"]
 # Settings shown in the tables when the sweep has them (the solver's knobs change over time;
 # the CSV keeps every field whatever it is).
-SETTING_COLUMNS = [("substeps", "substeps"), ("push_out_rate", "push rate"), ("push_out_speed", "push-out (m/s)"),
+SETTING_COLUMNS = [("substeps", "substeps"), ("solve_sweeps", "sweeps"), ("push_out_rate", "push rate"), ("push_out_speed", "push-out (m/s)"),
                    ("contact_hertz", "hertz"), ("damping_ratio", "damping"),
                    ("restitution_threshold", "threshold (m/s)"), ("dt", "dt (s)")]
 # Per-case figures shown in the markdown (besides cost and error).
