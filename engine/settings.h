@@ -69,14 +69,15 @@ struct SolverSettings {
   int substeps = 4;
   // Gauss-Seidel sweeps of the Solve pass per substep (1..kMaxSolveSweeps). A sweep costs about
   // what a substep's warm start and relax cost together, so fewer substeps of more sweeps cost
-  // about as much (3 of 2: 0.90x the default's cost on the 10k pour). A sweep hands a push only a
-  // few spheres into a jam, so piles converge better on more sweeps: 3 substeps of 2 left the 10k
-  // pour 7x less deep (0.00022 r) and the 100k pour 5.8x, gave a spawned crowd a tenth of the
-  // speed, and the pit-character's worst pinch 0.43 r instead of 0.71 (4 of 2: 0.20 r, at
-  // 1.11x). But the substeps are what time an impact: at 3, a dropped ball bounces 1.5% off e^2
-  // (0.65% at 4; the hard case's bound is 1%) and the elastic gas drifts twice as far. So one
-  // sweep stays the default (profiling/reports/solve_sweeps/speed_error.md,
-  // scripts/profile_solve_sweeps.sh).
+  // about as much (3 of 2 against the default: 0.90x on the 10k pour, 1 thread; the 100k pour's
+  // settled step on 2 threads 22.06 against 21.53 ms, then 27.19 against 22.65 on a busier
+  // machine). A sweep hands a push only a few spheres into a jam, so piles converge better on
+  // more sweeps: 3 substeps of 2 left the 10k pour 7x less deep (0.00022 r) and the 100k pour
+  // 5.8x, gave a spawned crowd a tenth of the speed, and the pit-character's worst pinch 0.43 r
+  // instead of 0.71 (4 of 2: 0.20 r, at 1.11x). But the substeps are what time an impact: at 3,
+  // a dropped ball bounces 1.5% off e^2 (0.65% at 4; the hard case's bound is 1%) and the
+  // elastic gas drifts twice as far. So one sweep stays the default
+  // (profiling/reports/solve_sweeps/speed_error.md, scripts/profile_solve_sweeps.sh).
   int solve_sweeps = 1;
   // Fraction of an overlap pushed out per substep, through split-impulse pseudo-velocity
   // (unitless, 0..1). Pseudo-velocity is forgotten after each move, so a fast rate costs no
