@@ -113,6 +113,7 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   if (!(loaded || use_file) || o.sleeping) world.solver.sleeping = o.sleeping;
   if (o.naive) world.solver.narrowphase = NarrowphaseMode::Naive;
   if (o.substeps > 0) world.set_substeps(o.substeps);
+  if (o.solve_sweeps > 0) world.set_solve_sweeps(o.solve_sweeps);
   world.validate_settings();
   print_step_warnings(world, o.tolerance_r > 0.0);
 

@@ -25,6 +25,7 @@ struct RunOptions {
   bool sleeping = false;      // the canonical pour measures with sleeping off
   bool naive = false;         // reference all-pairs narrowphase
   int substeps = 0;           // 0 keeps the scene's value
+  int solve_sweeps = 0;       // 0 keeps the scene's value
   // --tolerance: largest overlap allowed after a step, as a fraction of the ball radius; the
   // substeps then change every step to keep it (systems/substep_control.h), starting from the
   // scene's (or --substeps). 0: fixed substeps.
