@@ -23,7 +23,7 @@ constexpr char kMagic[8] = {'B', 'A', 'L', 'L', 'P', 'I', 'T', '\x1a'};
 // per substep (a version 2 file is read with one, the only count it could have run).
 constexpr std::uint32_t kVersion = 3;
 constexpr std::uint32_t kOldestReadable = 2;
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+using snapshot_io::kHeaderBytes;
 
 // A new field in these structs must be written and read below: these asserts fail the build
 // until it is (and the version is bumped).

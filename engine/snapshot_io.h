@@ -30,6 +30,21 @@ inline std::uint64_t payload_checksum(std::string_view bytes) {
   return h;
 }
 
+// The header before the payload: magic[8], u32 version, u32 reserved, u64 payload bytes, u64
+// payload_checksum. Byte offsets of the fields a reader checks.
+inline constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+inline constexpr std::size_t kVersionAt = 8, kPayloadSizeAt = 16, kChecksumAt = 24;
+
+// Makes a file's header state the size and checksum of the payload after it. For those who edit
+// a payload on purpose (the tests' older-version files, the fuzzer's mutations); the encoder
+// writes its own header.
+inline void reseal_header(std::string& file) {
+  const std::string_view payload = std::string_view(file).substr(kHeaderBytes);
+  const std::uint64_t size = payload.size(), checksum = payload_checksum(payload);
+  std::memcpy(file.data() + kPayloadSizeAt, &size, sizeof size);
+  std::memcpy(file.data() + kChecksumAt, &checksum, sizeof checksum);
+}
+
 static_assert(std::endian::native == std::endian::little, "snapshots are written little-endian");
 static_assert(sizeof(Vec3) == 12 && sizeof(WarmStartEntry) == 20, "stored as raw bytes: no padding");
 static_assert(sizeof(Quat) == 16 && sizeof(Mat4) == 64 && sizeof(Affine3) == 64, "stored as raw bytes: no padding");

@@ -3,7 +3,6 @@
 // Decision: the payload's checksum would turn almost every mutation into "corrupted", so the
 // input is tried twice: as it is (the header checks), and with the header's payload size and
 // checksum made to match its payload (the field-by-field decoder and the restore checks).
-#include <cstring>
 #include <string>
 
 #include "engine/error.h"
@@ -14,12 +13,6 @@
 #include "fuzz/step_world.h"
 
 namespace {
-
-// Header layout of engine/snapshot.h: magic[8], u32 version, u32 reserved, u64 payload bytes,
-// u64 FNV-1a 64 of the payload.
-constexpr std::size_t kHeaderBytes = 32;
-constexpr std::size_t kPayloadSizeAt = 16;
-constexpr std::size_t kChecksumAt = 24;
 
 void load_and_step(const ballpit::fuzz::TempFile& file, std::string_view bytes) {
   file.write(bytes);
@@ -38,13 +31,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const ballpit::fuzz::TempFile file(".snap");
   const std::string_view in = ballpit::fuzz::as_text(data, size);
   load_and_step(file, in);
-  if (in.size() >= kHeaderBytes) {
+  if (in.size() >= ballpit::snapshot_io::kHeaderBytes) {
     std::string fixed(in);
-    const std::string_view payload = std::string_view(fixed).substr(kHeaderBytes);
-    const std::uint64_t payload_bytes = payload.size();
-    const std::uint64_t checksum = ballpit::snapshot_io::payload_checksum(payload);
-    std::memcpy(fixed.data() + kPayloadSizeAt, &payload_bytes, sizeof payload_bytes);
-    std::memcpy(fixed.data() + kChecksumAt, &checksum, sizeof checksum);
+    ballpit::snapshot_io::reseal_header(fixed);
     if (fixed != in) load_and_step(file, fixed);
   }
   return 0;

@@ -177,7 +177,7 @@ std::string tolerance_label(double tolerance) { return "tolerance=" + format_val
 
 std::string substeps_label(int substeps) { return "substeps=" + std::to_string(substeps); }
 
-// Substeps and Solve sweeps, each where it is not the default.
+// Solve sweeps, after the substeps where they are not the default.
 std::string sweeps_label(int substeps, int sweeps) {
   const std::string s = "sweeps=" + std::to_string(sweeps);
   return substeps == SolverSettings{}.substeps ? s : substeps_label(substeps) + "," + s;

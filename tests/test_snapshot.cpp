@@ -176,17 +176,13 @@ TEST(Snapshot, SolveSweepsAreKeptAndAVersionTwoFileLoadsWithOne) {
   std::memcpy(block.data(), &substeps, 4);
   std::memcpy(block.data() + 4, &sweeps, 4);
   std::memcpy(block.data() + 8, &s.push_out_rate, 4);
-  constexpr std::size_t kHeader = 32;  // magic, version, reserved, payload bytes, checksum
-  const std::size_t at = v3.find(block, kHeader);
+  const std::size_t at = v3.find(block, snapshot_io::kHeaderBytes);
   ASSERT_NE(at, std::string::npos);
   ASSERT_EQ(v3.find(block, at + 1), std::string::npos) << "the solver block must be the only match";
   std::string v2 = v3.substr(0, at + 4) + v3.substr(at + 8);
   const std::uint32_t version = 2;
-  const std::uint64_t payload_bytes = v2.size() - kHeader;
-  const std::uint64_t checksum = snapshot_io::payload_checksum(std::string_view(v2).substr(kHeader));
-  std::memcpy(v2.data() + 8, &version, 4);
-  std::memcpy(v2.data() + 16, &payload_bytes, 8);
-  std::memcpy(v2.data() + 24, &checksum, 8);
+  std::memcpy(v2.data() + snapshot_io::kVersionAt, &version, sizeof version);
+  snapshot_io::reseal_header(v2);
   write_bytes(dir.file("two.snap"), v2);
 
   test::Sim from_v2, from_v3;
@@ -234,13 +230,13 @@ TEST(Snapshot, OneFlippedByteIsRefused) {
   expect_refused(dir.file("foreign.snap"), "not a ballpit snapshot");
 
   std::string newer = bytes;
-  newer[8] = static_cast<char>(newer[8] + 1);  // version, little-endian u32 after the magic
+  newer[snapshot_io::kVersionAt] = static_cast<char>(newer[snapshot_io::kVersionAt] + 1);  // little-endian u32
   write_bytes(dir.file("newer.snap"), newer);
   expect_refused(dir.file("newer.snap"), "newer than this build reads");
 
   // Version 1 held no character state: refused by name, not misread.
   std::string older = bytes;
-  older[8] = 1;
+  older[snapshot_io::kVersionAt] = 1;
   write_bytes(dir.file("older.snap"), older);
   expect_refused(dir.file("older.snap"),
                  "format version 1 is older than this build reads (2, which added character state)");
