@@ -149,6 +149,28 @@ TEST(MarineBody, ALegNeverTakesWeightFromTheOtherLegOrAnArm) {
   }
 }
 
+TEST(MarineBody, GearFollowsItsBones) {
+  const SkinnedMesh& m = body();
+  auto nearest = [&](const Vec3& q) {
+    std::size_t best = 0;
+    for (std::size_t v = 1; v < m.positions.size(); ++v)
+      if ((m.positions[v] - q).squaredNorm() < (m.positions[best] - q).squaredNorm()) best = v;
+    return best;
+  };
+  // The helmet is rigid on the head: its crown and its brim are the Head's alone.
+  for (const Vec3& q : {Vec3(0.0f, 2.0f, 0.0f), Vec3(0.0f, 1.74f, 0.4f), Vec3(0.3f, 1.70f, 0.0f)}) {
+    const std::size_t v = nearest(q);
+    EXPECT_EQ(m.bone_joint[m.bones[v][0]], kHead) << q.transpose();
+    EXPECT_GT(m.weights[v][0], 0.999f) << q.transpose();
+  }
+  // The plate carrier's front and back ride on the upper spine.
+  for (const Vec3& q : {Vec3(0.0f, 1.25f, 0.5f), Vec3(0.0f, 1.25f, -0.5f)}) {
+    const std::size_t v = nearest(q);
+    const int j = m.bone_joint[m.bones[v][0]];
+    EXPECT_TRUE(j == kSpine1 || j == kSpine2) << q.transpose() << " on joint " << j;
+  }
+}
+
 TEST(MarineBody, IsClosedWithOutwardWindingAndUnitNormals) {
   const SkinnedMesh& m = body();
   ASSERT_EQ(m.indices.size() % 3, 0u);

@@ -25,14 +25,18 @@ namespace {
 constexpr float kCell = 0.017f;
 // Region-to-region skin blending: a vertex takes weight from a second region while that
 // region's nearest primitive is within this much of the dominant one (unit: m).
-constexpr float kRegionBlend = 0.03f;
+constexpr float kRegionBlend = 0.05f;
 
 // Eyes: dark brown spots on the face (the other colours are in marine_body.h and camouflage.h).
 constexpr Srgb8 kEye = {0x3a, 0x2a, 0x20, 0xff};
 
 enum class Shape : std::uint8_t { kRoundCone, kEllipsoid, kRoundBox };
 enum class Material : std::uint8_t { kSkin, kUniform, kBoot, kGear, kHelmet };
-enum Region : std::uint8_t { kCore, kLeftArmRegion, kRightArmRegion, kLeftLegRegion, kRightLegRegion, kRegions };
+// Skin regions, each with its bone chain: the body's core (and belt), each limb, and the two
+// rigid pieces of gear, which follow their bones (carrier and pack: Spine1/Spine2; helmet: Head).
+enum Region : std::uint8_t {
+  kCore, kLeftArmRegion, kRightArmRegion, kLeftLegRegion, kRightLegRegion, kCarrier, kHelmetRegion, kRegions
+};
 
 struct Primitive {
   Shape shape;
@@ -131,20 +135,20 @@ std::vector<Primitive> make_primitives() {
   // Helmet: a dome whose rim rises from the nape to the brow; its top is the stature.
   {
     const Vec3 r(0.112f, 0.132f, 0.13f);
-    Primitive h = solid(S::kEllipsoid, Vec3(0.0f, kStature - r.y(), 0.01f), r, 0, 0.008f, M::kHelmet, kCore);
+    Primitive h = solid(S::kEllipsoid, Vec3(0.0f, kStature - r.y(), 0.01f), r, 0, 0.008f, M::kHelmet, kHelmetRegion);
     h.cut = true;
     h.cut_n = Vec3(0.0f, 1.0f, -0.5f).normalized();
     h.cut_c = h.cut_n.dot(Vec3(0.0f, 1.66f, 0.0f));
     v.push_back(h);
   }
   // Plate carrier with its magazine pouches and shoulder straps; a small pack; a belt.
-  v.push_back(solid(S::kRoundBox, Vec3(0.0f, 1.235f, -0.005f), Vec3(0.14f, 0.135f, 0.105f), 0.025f, 0.01f, M::kGear, kCore));
-  v.push_back(solid(S::kRoundBox, Vec3(0.0f, 1.14f, 0.135f), Vec3(0.12f, 0.04f, 0.02f), 0.012f, 0.008f, M::kGear, kCore));
+  v.push_back(solid(S::kRoundBox, Vec3(0.0f, 1.235f, -0.005f), Vec3(0.14f, 0.135f, 0.105f), 0.025f, 0.01f, M::kGear, kCarrier));
+  v.push_back(solid(S::kRoundBox, Vec3(0.0f, 1.14f, 0.135f), Vec3(0.12f, 0.04f, 0.02f), 0.012f, 0.008f, M::kGear, kCarrier));
   for (float s : {1.0f, -1.0f}) {
-    v.push_back(cone(Vec3(s * 0.10f, 1.38f, 0.10f), 0.022f, Vec3(s * 0.11f, 1.47f, -0.02f), 0.022f, 0.008f, M::kGear, kCore));
-    v.push_back(cone(Vec3(s * 0.11f, 1.47f, -0.02f), 0.022f, Vec3(s * 0.10f, 1.38f, -0.13f), 0.022f, 0.008f, M::kGear, kCore));
+    v.push_back(cone(Vec3(s * 0.10f, 1.38f, 0.10f), 0.022f, Vec3(s * 0.11f, 1.47f, -0.02f), 0.022f, 0.008f, M::kGear, kCarrier));
+    v.push_back(cone(Vec3(s * 0.11f, 1.47f, -0.02f), 0.022f, Vec3(s * 0.10f, 1.38f, -0.13f), 0.022f, 0.008f, M::kGear, kCarrier));
   }
-  v.push_back(solid(S::kRoundBox, Vec3(0.0f, 1.24f, -0.185f), Vec3(0.10f, 0.12f, 0.04f), 0.025f, 0.01f, M::kGear, kCore));
+  v.push_back(solid(S::kRoundBox, Vec3(0.0f, 1.24f, -0.185f), Vec3(0.10f, 0.12f, 0.04f), 0.025f, 0.01f, M::kGear, kCarrier));
   v.push_back(solid(S::kEllipsoid, Vec3(0.0f, 1.0f, -0.005f), Vec3(0.148f, 0.028f, 0.118f), 0, 0.01f, M::kGear, kCore));
 
   for (int side = 0; side < 2; ++side) {
@@ -193,7 +197,7 @@ std::vector<Primitive> make_primitives() {
 struct Sample {
   float d = 1.0f;
   int dominant = -1;
-  std::array<float, kRegions> region_d{1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
+  std::array<float, kRegions> region_d{1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f};
 };
 
 bool inside(const Primitive& s, const Vec3& p) {
@@ -255,6 +259,9 @@ std::array<Chain, kRegions> make_chains() {
                      {kSpine2, P[kSpine2], up, 0.05f},
                      {kNeck, P[kNeck], up, 0.03f},
                      {kHead, P[kHead], up, 0.03f}};
+  c[kCarrier].root = kSpine1;
+  c[kCarrier].joints = {{kSpine2, P[kSpine2], up, 0.08f}};
+  c[kHelmetRegion].root = kHead;
   for (int side = 0; side < 2; ++side) {
     const int a = side == 0 ? 0 : kRightShoulder - kLeftShoulder;
     const Vec3 clav = P[kLeftArm + a] - P[kLeftShoulder + a], upper = P[kLeftForeArm + a] - P[kLeftArm + a];
@@ -291,7 +298,7 @@ void add_chain_weights(const Chain& chain, const Vec3& p, float scale, std::arra
   w[owner] += scale * reach;
 }
 
-bool is_limb(int region) { return region != kCore; }
+bool is_limb(int region) { return region >= kLeftArmRegion && region <= kRightLegRegion; }
 
 }  // namespace
 
