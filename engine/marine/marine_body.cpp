@@ -2,11 +2,11 @@
 // of round cones, ellipsoids and rounded boxes laid along his bones (a real 1.8 m man's limb
 // radii) plus his gear (helmet, plate carrier, pack, belt), polygonised with naive surface nets,
 // the vertices then projected onto the surface and given the field's gradient as normal.
-// Each primitive carries a material (its colour) and a region (core, one arm, one leg), and
-// the dominant primitive at a vertex chooses both; skin weights come from the region's bone
+// Each primitive carries a material (its colour) and a region (core, a limb, a piece of gear),
+// and the dominant primitive at a vertex chooses both; skin weights come from the region's bone
 // chain, blended across each joint by a smooth step over a few centimetres.
-// Decision: surface nets on a grid whose checkerboard faces have been removed gives a closed,
-// two-manifold mesh by construction (every dual edge lies in exactly two quads), with no tables.
+// Decision: surface nets on a grid whose checkerboard faces have been removed gives a closed
+// mesh by construction (every dual edge lies in exactly two quads), with no lookup tables.
 #include "engine/marine/marine_body.h"
 
 #include <algorithm>
