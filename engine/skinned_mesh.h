@@ -7,10 +7,12 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "engine/math.h"
+#include "engine/texture.h"
 
 namespace ballpit {
 
@@ -27,6 +29,13 @@ struct SkinnedMesh {
   // Per mesh bone: its skeleton joint and inverse bind matrix (mesh space -> joint space).
   std::vector<std::uint16_t> bone_joint;
   std::vector<Affine3> inverse_bind;
+
+  // How it looks, as far as the file says; each part is optional and they multiply, as glTF's
+  // base colour does: base_color x vertex colour x texture at the vertex's coordinates.
+  Vec4 base_color = Vec4::Ones();                      // the material's, linear RGBA
+  std::vector<std::array<std::uint8_t, 4>> colors;     // per vertex, sRGB RGB + alpha; empty: none
+  std::vector<Vec2> uvs;                               // per vertex; empty: no texture coordinates
+  std::shared_ptr<const Texture> base_color_texture;   // null: none
 };
 
 }  // namespace ballpit
