@@ -1,5 +1,6 @@
 #include "app/character_renderer.h"
 
+#include <algorithm>
 #include <string>
 
 #include "app/frame_uniforms.h"
@@ -15,11 +16,15 @@ layout(location = 0) in vec3 a_position;   // bind pose, model units
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in uvec4 a_bones;     // indices into this mesh's palette
 layout(location = 3) in vec4 a_weights;    // sum to 1
+layout(location = 4) in vec4 a_color;      // sRGB RGB + linear alpha (read only with u_has_colors)
+layout(location = 5) in vec2 a_uv;         // v down from the texture's top row (only with u_has_texture)
 layout(std430, binding = 5) readonly buffer Palette { mat4 b_palette[]; };  // start, then end of step
 uniform int u_bones;       // palette entries per pose
 uniform float u_alpha;     // 0: start of the last step, 1: its end
 out vec3 v_world;
 out vec3 v_normal;
+out vec4 v_color;
+out vec2 v_uv;
 
 mat4 skin(int base) {
   return a_weights.x * b_palette[base + int(a_bones.x)] + a_weights.y * b_palette[base + int(a_bones.y)] +
@@ -33,6 +38,8 @@ void main() {
   // Palettes hold rigid motion times a uniform scale, so their upper 3x3 carries normals.
   v_normal = mix(mat3(start) * a_normal, mat3(end) * a_normal, u_alpha);
   v_world = p.xyz;
+  v_color = a_color;
+  v_uv = a_uv;
   gl_Position = u_projection * u_view * p;
 }
 )glsl";
@@ -40,12 +47,30 @@ void main() {
 constexpr const char* kFragment = R"glsl(
 in vec3 v_world;
 in vec3 v_normal;
+in vec4 v_color;
+in vec2 v_uv;
 uniform float u_opacity;
+uniform vec4 u_base_color;    // linear
+uniform int u_has_colors;
+uniform int u_has_texture;
+uniform int u_fallback;       // none of the above: the engine's brown albedo
+layout(binding = 0) uniform sampler2D u_texture;  // GL_SRGB8_ALPHA8: sampled linear
 out vec4 o_color;
+
+// The exact sRGB curve (as the texture unit decodes), for vertex colours.
+vec3 srgb_decode(vec3 c) {
+  return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
+}
+
 void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;     // imported meshes are not always consistently wound
   vec3 albedo = srgb_to_linear(vec3(0.66, 0.47, 0.30));
+  if (u_fallback == 0) {
+    albedo = u_base_color.rgb;
+    if (u_has_colors != 0) albedo *= srgb_decode(v_color.rgb);
+    if (u_has_texture != 0) albedo *= texture(u_texture, v_uv).rgb;
+  }
   float occlusion = depth_occlusion(v_world);
   o_color = vec4(linear_to_srgb(shade(albedo, n, v_world, occlusion, 24.0, 0.12)), u_opacity);
 }
@@ -74,6 +99,14 @@ void CharacterRenderer::load(const std::shared_ptr<const Model>& model) {
     store(b.indices, m.indices);
     b.index_count = static_cast<GLsizei>(m.indices.size());
     b.bones_in_palette = m.bone_joint.size();
+    b.base_color = m.base_color;
+    const bool has_colors = m.colors.size() == m.positions.size() && !m.colors.empty();
+    const bool has_uvs = m.uvs.size() == m.positions.size() && !m.uvs.empty();
+    const Texture* texture = m.base_color_texture.get();
+    const bool has_texture =
+        has_uvs && texture && texture->width > 0 && texture->height > 0 &&
+        texture->rgba.size() == static_cast<std::size_t>(texture->width) * static_cast<std::size_t>(texture->height) * 4;
+    b.fallback_albedo = !has_colors && !has_texture && m.base_color.head<3>() == Vec3::Ones();
     const GLuint vao = b.vao.id();
     glVertexArrayVertexBuffer(vao, 0, b.positions.id(), 0, sizeof(Vec3));
     glVertexArrayVertexBuffer(vao, 1, b.normals.id(), 0, sizeof(Vec3));
@@ -88,6 +121,37 @@ void CharacterRenderer::load(const std::shared_ptr<const Model>& model) {
     glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribIFormat(vao, 2, 4, GL_UNSIGNED_SHORT, 0);
     glVertexArrayAttribFormat(vao, 3, 4, GL_FLOAT, GL_FALSE, 0);
+    // Colours and coordinates only where the mesh has them; a disabled array is never read
+    // (the shader's flags say so), whatever the context's constant attribute holds.
+    if (has_colors) {
+      b.colors = GlBuffer();
+      store(b.colors, m.colors);
+      glVertexArrayVertexBuffer(vao, 4, b.colors.id(), 0, sizeof(m.colors[0]));
+      glEnableVertexArrayAttrib(vao, 4);
+      glVertexArrayAttribBinding(vao, 4, 4);
+      glVertexArrayAttribFormat(vao, 4, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);
+    }
+    if (has_texture) {
+      b.uvs = GlBuffer();
+      store(b.uvs, m.uvs);
+      glVertexArrayVertexBuffer(vao, 5, b.uvs.id(), 0, sizeof(Vec2));
+      glEnableVertexArrayAttrib(vao, 5);
+      glVertexArrayAttribBinding(vao, 5, 5);
+      glVertexArrayAttribFormat(vao, 5, 2, GL_FLOAT, GL_FALSE, 0);
+      // Rows top to bottom as stored: the first row is t = 0, where the coordinates' v = 0 is.
+      b.texture = GlTexture2D();
+      const GLuint tex = b.texture.id();
+      int levels = 1;
+      while ((std::max(texture->width, texture->height) >> levels) > 0) ++levels;
+      glTextureStorage2D(tex, levels, GL_SRGB8_ALPHA8, texture->width, texture->height);
+      glTextureSubImage2D(tex, 0, 0, 0, texture->width, texture->height, GL_RGBA, GL_UNSIGNED_BYTE,
+                          texture->rgba.data());
+      glGenerateTextureMipmap(tex);
+      glTextureParameteri(tex, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glTextureParameteri(tex, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      glTextureParameteri(tex, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    }
     meshes_.push_back(std::move(b));
   }
 }
@@ -127,6 +191,11 @@ void CharacterRenderer::draw(const Session& session, bool ghost) {
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 5, palette_.id(), 0,
                       static_cast<GLsizeiptr>(staging_.size() * sizeof(Mat4)));
     program_.set("u_bones", static_cast<int>(b.bones_in_palette));
+    program_.set("u_base_color", b.base_color);
+    program_.set("u_has_colors", b.colors.id() != 0 ? 1 : 0);
+    program_.set("u_has_texture", b.texture.id() != 0 ? 1 : 0);
+    program_.set("u_fallback", b.fallback_albedo ? 1 : 0);
+    if (b.texture.id() != 0) glBindTextureUnit(0, b.texture.id());
     glBindVertexArray(b.vao.id());
     glDrawElements(GL_TRIANGLES, b.index_count, GL_UNSIGNED_INT, nullptr);
   }

@@ -5,6 +5,9 @@
 // Decision: the start-of-step palette is rebuilt on the CPU from the pose's previous joint
 // transforms (a few dozen matrices), rather than kept from the last frame, so pausing, single
 // steps and dropped frames never blend against a stale pose.
+// Look: base colour x vertex colour x base colour texture, as glTF multiplies them (colours and
+// texels are sRGB, decoded to linear before the product). A mesh with none of them (no colours,
+// no texture, a white base colour: the Wuson) keeps the engine's brown albedo.
 #pragma once
 
 #include <memory>
@@ -18,6 +21,12 @@ namespace ballpit {
 
 class Session;
 
+namespace gl_detail {
+inline void create_texture_2d(GLuint* id) { glCreateTextures(GL_TEXTURE_2D, 1, id); }
+inline void delete_texture(GLuint id) { glDeleteTextures(1, &id); }
+}  // namespace gl_detail
+using GlTexture2D = GlName<gl_detail::create_texture_2d, gl_detail::delete_texture>;
+
 class CharacterRenderer {
  public:
   CharacterRenderer();
@@ -28,8 +37,12 @@ class CharacterRenderer {
   struct MeshBuffers {
     GlVertexArray vao;
     GlBuffer positions, normals, bones, weights, indices;
+    GlBuffer colors{nullptr}, uvs{nullptr};  // no names unless the mesh has them
+    GlTexture2D texture{nullptr};            // base colour texture (sRGB); none unless the mesh has one
     GLsizei index_count = 0;
     std::size_t bones_in_palette = 0;
+    Vec4 base_color = Vec4::Ones();  // linear RGBA
+    bool fallback_albedo = false;    // none of the look's parts: the engine's own colour
   };
   void load(const std::shared_ptr<const Model>& model);
 

@@ -1,8 +1,10 @@
 // ballpit: the command line. With no subcommand it opens the interactive pit (or, with
-// --screenshot, renders offscreen); `ballpit run` is the headless runner. See --help.
+// --screenshot, renders offscreen); `ballpit run` is the headless runner; `ballpit make-marine
+// FILE.glb` writes the built-in marine as glTF for other tools. See --help.
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -11,6 +13,8 @@
 #include "app/offscreen_run.h"
 #include "app/viewer.h"
 #include "engine/error.h"
+#include "engine/marine/marine.h"
+#include "engine/model_export.h"
 #include "engine/settings.h"
 
 namespace {
@@ -108,6 +112,11 @@ int main(int argc, char** argv) {
   cmd->add_flag("!--no-progress", run.progress, "Do not print progress lines on stderr");
   cmd->add_flag("!--no-table", run.print_table, "Do not print the per-system table on stderr");
 
+  std::string marine_path;
+  CLI::App* marine_cmd = app.add_subcommand("make-marine", "Write the built-in marine (builtin:marine) as glTF 2.0");
+  marine_cmd->add_option("file", marine_path, "Output file: FILE.glb (binary) or FILE.gltf (with FILE.bin beside it)")
+      ->required();
+
   CLI11_PARSE(app, argc, argv);
   if (run.scene.ends_with(".json") || !run.set.empty()) {
     // The scene's own spheres and steps apply unless given on the command line (--spheres sets
@@ -118,6 +127,17 @@ int main(int argc, char** argv) {
   screenshot_given = shot->count() > 0;
 
   try {
+    if (app.got_subcommand(marine_cmd)) {
+      // The folder is checked here so the message names it; the export names the file.
+      const std::filesystem::path folder = std::filesystem::path(marine_path).parent_path();
+      std::error_code ec;
+      if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+        throw ballpit::Error("make-marine: the folder '" + folder.string() + "' of '" + marine_path + "' does not exist");
+      ballpit::export_model_gltf(ballpit::marine::make_marine(), marine_path);
+      nlohmann::ordered_json report = {{"model", ballpit::marine::kModelName}, {"file", marine_path}};
+      std::cout << report.dump() << std::endl;
+      return 0;
+    }
     if (app.got_subcommand(cmd)) {
       nlohmann::ordered_json report = ballpit::run_headless(run);
       std::cout << report.dump() << std::endl;

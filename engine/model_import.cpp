@@ -1,10 +1,13 @@
 #include "engine/model_import.h"
 
 #include <assimp/Importer.hpp>
+#include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <png.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +18,7 @@
 #include <unordered_set>
 
 #include "engine/model_probe.h"
+#include "engine/srgb.h"
 
 namespace ballpit {
 
@@ -62,7 +66,97 @@ void add_joints(const aiNode* node, int parent, const std::unordered_set<std::st
   for (unsigned i = 0; i < node->mNumChildren; ++i) add_joints(node->mChildren[i], self, bones, memo, sk);
 }
 
-SkinnedMesh import_mesh(const std::string& path, const aiMesh* m, const Skeleton& sk) {
+// A PNG from memory as RGBA8, rows top to bottom; null if libpng refuses it (the texture is then
+// left out: a model draws without it rather than not at all).
+std::shared_ptr<const Texture> decode_png(const unsigned char* bytes, std::size_t size) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&image, bytes, size)) return nullptr;
+  image.format = PNG_FORMAT_RGBA;
+  // Far beyond any texture (16k x 16k); refuses a damaged header's absurd size.
+  constexpr png_uint_32 kMaxSide = 16384;
+  if (image.width == 0 || image.height == 0 || image.width > kMaxSide || image.height > kMaxSide) {
+    png_image_free(&image);
+    return nullptr;
+  }
+  auto texture = std::make_shared<Texture>();
+  texture->width = static_cast<int>(image.width);
+  texture->height = static_cast<int>(image.height);
+  texture->rgba.resize(PNG_IMAGE_SIZE(image));
+  if (!png_image_finish_read(&image, nullptr, texture->rgba.data(), 0, nullptr)) {
+    png_image_free(&image);
+    return nullptr;
+  }
+  return texture;
+}
+
+// The base colour texture of a material when the file embeds it: uncompressed texels as they
+// are, a PNG decoded; another format (JPEG, ...), a texture in a file of its own, or one that
+// fails to decode is left out without an error.
+std::shared_ptr<const Texture> import_texture(const aiScene* scene, const aiMaterial* material) {
+  aiString where;
+  if (material->GetTexture(aiTextureType_BASE_COLOR, 0, &where) != AI_SUCCESS &&
+      material->GetTexture(aiTextureType_DIFFUSE, 0, &where) != AI_SUCCESS)
+    return nullptr;
+  const aiTexture* t = scene->GetEmbeddedTexture(where.C_Str());
+  if (!t || !t->pcData || t->mWidth == 0) return nullptr;
+  if (t->mHeight == 0) {  // compressed: mWidth bytes in the format of achFormatHint
+    if (!t->CheckFormat("png")) return nullptr;
+    return decode_png(reinterpret_cast<const unsigned char*>(t->pcData), t->mWidth);
+  }
+  auto texture = std::make_shared<Texture>();
+  texture->width = static_cast<int>(t->mWidth);
+  texture->height = static_cast<int>(t->mHeight);
+  const std::size_t texels = std::size_t{t->mWidth} * t->mHeight;
+  texture->rgba.resize(texels * 4);
+  for (std::size_t i = 0; i < texels; ++i) {
+    const aiTexel& x = t->pcData[i];
+    texture->rgba[4 * i + 0] = x.r;
+    texture->rgba[4 * i + 1] = x.g;
+    texture->rgba[4 * i + 2] = x.b;
+    texture->rgba[4 * i + 3] = x.a;
+  }
+  return texture;
+}
+
+// How the mesh looks: vertex colours, texture coordinates, and its material's base colour and
+// texture. Colours become sRGB bytes: glTF files store linear COLOR_0 (encoded here, the inverse
+// of model_export.cpp, so a round trip keeps the bytes); other formats' colours are taken as
+// the display values their authoring tools show (already sRGB). Material colours are linear
+// factors in every format. Coordinates get v down from the image's top row, glTF's convention
+// (assimp's is v up).
+void import_look(const aiScene* scene, const aiMesh* m, bool linear_colors, SkinnedMesh& mesh) {
+  const unsigned n = m->mNumVertices;
+  if (m->mColors[0]) {
+    mesh.colors.resize(n);
+    for (unsigned v = 0; v < n; ++v) {
+      const aiColor4D& c = m->mColors[0][v];
+      auto encode = [&](float x) {
+        return unit_to_byte(linear_colors ? linear_to_srgb(std::clamp(x, 0.0f, 1.0f)) : x);
+      };
+      mesh.colors[v] = {encode(c.r), encode(c.g), encode(c.b), unit_to_byte(c.a)};
+    }
+  }
+  if (m->mTextureCoords[0]) {
+    mesh.uvs.resize(n);
+    for (unsigned v = 0; v < n; ++v) mesh.uvs[v] = Vec2(m->mTextureCoords[0][v].x, 1.0f - m->mTextureCoords[0][v].y);
+  }
+  if (m->mMaterialIndex >= scene->mNumMaterials) return;
+  const aiMaterial* material = scene->mMaterials[m->mMaterialIndex];
+  // A material assimp made up for a file that has none has no name (the X importer's 0.5 grey,
+  // the Wuson's) or AI_DEFAULT_MATERIAL_NAME: its diffuse colour is not the file's, so ignored.
+  aiString name;
+  const bool from_file = material->Get(AI_MATKEY_NAME, name) == AI_SUCCESS && name.length > 0 &&
+                         std::strcmp(name.C_Str(), AI_DEFAULT_MATERIAL_NAME) != 0;
+  aiColor4D base(1.0f, 1.0f, 1.0f, 1.0f);
+  if (material->Get(AI_MATKEY_BASE_COLOR, base) == AI_SUCCESS ||
+      (from_file && material->Get(AI_MATKEY_COLOR_DIFFUSE, base) == AI_SUCCESS))
+    mesh.base_color = Vec4(base.r, base.g, base.b, base.a);
+  if (!mesh.uvs.empty()) mesh.base_color_texture = import_texture(scene, material);
+}
+
+SkinnedMesh import_mesh(const std::string& path, const aiScene* scene, const aiMesh* m, const Skeleton& sk,
+                        bool linear_colors) {
   SkinnedMesh mesh;
   mesh.name = m->mName.C_Str();
   const unsigned n = m->mNumVertices;
@@ -117,6 +211,7 @@ SkinnedMesh import_mesh(const std::string& path, const aiMesh* m, const Skeleton
     fail_model_file(path, "mesh '" + mesh.name + "' has " + std::to_string(unweighted) + " of " + std::to_string(n) +
                               " vertices with no bone weight (every vertex of a skinned mesh must follow a bone)");
   }
+  import_look(scene, m, linear_colors, mesh);
   return mesh;
 }
 
@@ -204,10 +299,15 @@ std::shared_ptr<const Model> import_model(const std::string& path) {
   if (model->skeleton.size() > 0xffff) fail_model_file(path, "has more joints than the engine indexes (65535)");
 
   // Only meshes with bones are skinned; a mesh without bones belongs to no joint and is left out.
+  // glTF's vertex colours are linear; other formats' are taken as sRGB (import_look).
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool linear_colors = extension == ".gltf" || extension == ".glb";
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
     const aiMesh* m = scene->mMeshes[i];
     if (m->mNumBones == 0) continue;
-    model->meshes.push_back(import_mesh(path, m, model->skeleton));
+    model->meshes.push_back(import_mesh(path, scene, m, model->skeleton, linear_colors));
   }
   model->bind_min = Vec3::Constant(std::numeric_limits<float>::max());
   model->bind_max = Vec3::Constant(-std::numeric_limits<float>::max());
