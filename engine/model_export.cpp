@@ -3,9 +3,12 @@
 #include <assimp/Exporter.hpp>
 #include <assimp/material.h>
 #include <assimp/scene.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -111,13 +114,47 @@ aiMesh* export_mesh(const SkinnedMesh& src, const Skeleton& sk, unsigned materia
   return m;
 }
 
-aiMaterial* export_material(const SkinnedMesh& src) {
+// The texture as an embedded PNG (assimp frees pcData with delete[] as aiTexel, so the bytes go
+// into aiTexels); null if it has no texels or libpng cannot encode it.
+aiTexture* export_texture(const Texture& t) {
+  if (t.width <= 0 || t.height <= 0 ||
+      t.rgba.size() != static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) * 4)
+    return nullptr;
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(t.width);
+  image.height = static_cast<png_uint_32>(t.height);
+  image.format = PNG_FORMAT_RGBA;
+  png_alloc_size_t size = 0;
+  if (!png_image_write_to_memory(&image, nullptr, &size, 0, t.rgba.data(), 0, nullptr) || size == 0) return nullptr;
+  std::vector<unsigned char> png(size);
+  if (!png_image_write_to_memory(&image, png.data(), &size, 0, t.rgba.data(), 0, nullptr)) return nullptr;
+  auto* tex = new aiTexture;
+  tex->mWidth = static_cast<unsigned>(size);  // compressed: mWidth is the byte count, mHeight 0
+  tex->mHeight = 0;
+  std::strcpy(tex->achFormatHint, "png");
+  tex->pcData = new aiTexel[(size + sizeof(aiTexel) - 1) / sizeof(aiTexel)];
+  std::memcpy(tex->pcData, png.data(), size);
+  return tex;
+}
+
+// texture: the index of its embedded base colour texture in the scene, or -1 for none.
+aiMaterial* export_material(const SkinnedMesh& src, int texture) {
   auto* mat = new aiMaterial;
   const aiString name(src.name + "_material");
   mat->AddProperty(&name, AI_MATKEY_NAME);
   const aiColor4D base(src.base_color.x(), src.base_color.y(), src.base_color.z(), src.base_color.w());
   mat->AddProperty(&base, 1, AI_MATKEY_BASE_COLOR);
   mat->AddProperty(&base, 1, AI_MATKEY_COLOR_DIFFUSE);
+  if (texture >= 0) {
+    // "*N": the scene's embedded texture N, as assimp's importers name them.
+    char name_of_texture[16];  // (built with snprintf: GCC 12 misreads "*" + std::to_string as overlapping)
+    std::snprintf(name_of_texture, sizeof(name_of_texture), "*%d", texture);
+    aiString where;
+    where.Set(name_of_texture);
+    mat->AddProperty(&where, AI_MATKEY_TEXTURE(aiTextureType_BASE_COLOR, 0));
+    mat->AddProperty(&where, AI_MATKEY_TEXTURE(aiTextureType_DIFFUSE, 0));
+  }
   return mat;
 }
 
@@ -224,12 +261,21 @@ std::unique_ptr<aiScene> build_scene(const Model& model, const std::string& path
   else
     for (std::size_t j : roots) top.push_back(nodes[j]);
   std::vector<std::string> mesh_nodes;
+  // At most one texture a mesh; owned by the scene from the start, so a failure frees it.
+  scene->mTextures = new aiTexture*[meshes]();
   for (std::size_t i = 0; i < meshes; ++i) {
     const SkinnedMesh& src = model.meshes[i];
     if (src.weights.size() != src.positions.size() || src.bones.size() != src.positions.size())
       fail(path, "mesh '" + src.name + "' does not weight every vertex");
     scene->mMeshes[i] = export_mesh(src, sk, static_cast<unsigned>(i));
-    scene->mMaterials[i] = export_material(src);
+    int texture = -1;
+    if (src.base_color_texture && src.uvs.size() == src.positions.size()) {
+      if (aiTexture* t = export_texture(*src.base_color_texture)) {
+        texture = static_cast<int>(scene->mNumTextures);
+        scene->mTextures[scene->mNumTextures++] = t;
+      }
+    }
+    scene->mMaterials[i] = export_material(src, texture);
     // A node name must not be a joint's: bones find their nodes by name.
     std::string name = src.name.empty() ? "mesh" : src.name;
     while (sk.find(name) >= 0 || std::find(mesh_nodes.begin(), mesh_nodes.end(), name) != mesh_nodes.end())
@@ -241,6 +287,10 @@ std::unique_ptr<aiScene> build_scene(const Model& model, const std::string& path
     top.push_back(node);
   }
   set_children(root, top);
+  if (scene->mNumTextures == 0) {
+    delete[] scene->mTextures;
+    scene->mTextures = nullptr;
+  }
 
   scene->mNumAnimations = static_cast<unsigned>(model.clips.size());
   if (!model.clips.empty()) {

@@ -1,7 +1,7 @@
 // Model export to glTF 2.0 through assimp: a Model (the marine made in code, or one imported)
 // becomes a file other tools open: the skeleton as nodes with their rest TRS, each skinned mesh
 // with positions, normals, vertex colours, texture coordinates, its bones' inverse bind matrices
-// and weights, a material with the base colour, and every clip as an animation.
+// and weights, a material with the base colour and texture, and every clip as an animation.
 // Reads: the model. Writes: the file, atomically (engine/atomic_file.h): a failed export leaves
 // the previous file, if any, untouched, and throws ballpit::Error naming the path and why.
 // Decision: what glTF cannot say is carried so that import_model reads the same model back:
@@ -11,7 +11,7 @@
 // origin: a plain "root" above the root joints unless the skeleton's one root is already such a
 // node (import then reads one more joint, at identity: no vertex moves). Not carried: a clip's
 // looping flag and time base (glTF has neither; import reads every clip as looping, at assimp's
-// 1000 ticks a second) and the base colour texture (left out; the marine has none).
+// 1000 ticks a second). A base colour texture is embedded as a PNG.
 #pragma once
 
 #include <string>

@@ -251,6 +251,73 @@ TEST(ModelExport, VertexColourBytesSurviveTheLinearEncodingOfGltf) {
   expect_same_motion(marine, *back);  // matches vertices by colour bytes too
 }
 
+// The marine with texture coordinates from his bind position and a small texture of distinct
+// texels (4 x 3, so a row or column flip would show).
+Model textured_marine() {
+  Model marine = marine::make_marine();
+  for (SkinnedMesh& mesh : marine.meshes) {
+    mesh.uvs.clear();
+    for (const Vec3& p : mesh.positions) mesh.uvs.push_back(Vec2(0.5f + p.x(), 1.0f - p.y() / 2.0f));
+    auto texture = std::make_shared<Texture>();
+    texture->width = 4;
+    texture->height = 3;
+    for (int i = 0; i < 4 * 3; ++i)
+      for (int c = 0; c < 4; ++c) texture->rgba.push_back(static_cast<std::uint8_t>(i * 20 + c * 60 + 1));
+    mesh.base_color_texture = texture;
+  }
+  return marine;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+TEST(ModelExport, TextureAndCoordinatesSurviveAsAnEmbeddedPng) {
+  const Model marine = textured_marine();
+  const auto back = round_trip(marine, "textured.glb");
+  ASSERT_EQ(back->meshes.size(), marine.meshes.size());
+  for (std::size_t m = 0; m < marine.meshes.size(); ++m) {
+    const auto& a = marine.meshes[m].base_color_texture;
+    const auto& b = back->meshes[m].base_color_texture;
+    ASSERT_NE(b, nullptr);
+    EXPECT_EQ(b->width, a->width);
+    EXPECT_EQ(b->height, a->height);
+    EXPECT_EQ(b->rgba, a->rgba);  // PNG is lossless: the same bytes, rows in the same order
+  }
+  expect_same_motion(marine, *back);  // matches vertices by texture coordinates too
+}
+
+// An embedded texture import cannot decode is left out; the model still loads, coordinates and all.
+TEST(ModelExport, ATextureThatFailsToDecodeOrIsNotPngIsLeftOut) {
+  TempDir dir;
+  const std::string path = dir.file("textured.glb");
+  export_model_gltf(textured_marine(), path);
+  const std::string good = read_bytes(path);
+  const std::size_t png = good.find("\x89PNG\r\n\x1a\n");
+  ASSERT_NE(png, std::string::npos);
+
+  std::string damaged = good;
+  for (std::size_t i = png + 8; i < png + 40; ++i) damaged[i] = 'x';  // the header chunk and on
+  write_bytes(dir.file("damaged.glb"), damaged);
+  const auto a = import_model(dir.file("damaged.glb"));
+  EXPECT_EQ(a->meshes[0].base_color_texture, nullptr);
+  EXPECT_FALSE(a->meshes[0].uvs.empty());
+
+  // Same length, so the binary container stays valid: the image now says it is a JPEG.
+  std::string jpeg = good;
+  const std::size_t mime = jpeg.find("image/png");
+  ASSERT_NE(mime, std::string::npos);
+  jpeg.replace(mime, 9, "image/jpg");
+  write_bytes(dir.file("jpeg.glb"), jpeg);
+  const auto b = import_model(dir.file("jpeg.glb"));
+  EXPECT_EQ(b->meshes[0].base_color_texture, nullptr);
+}
+
 TEST(ModelExport, GltfWithItsBufferBesideItReadsBack) {
   TempDir dir;
   const Model marine = marine::make_marine();
