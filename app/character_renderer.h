@@ -6,8 +6,9 @@
 // transforms (a few dozen matrices), rather than kept from the last frame, so pausing, single
 // steps and dropped frames never blend against a stale pose.
 // Look: base colour x vertex colour x base colour texture, as glTF multiplies them (colours and
-// texels are sRGB, decoded to linear before the product). A mesh with none of them (no colours,
-// no texture, a white base colour: the Wuson) keeps the engine's brown albedo.
+// texels are sRGB, decoded to linear before the product; alpha is not drawn: the character is
+// opaque). A mesh with none of them (no colours, no texture, a white base colour: the Wuson)
+// keeps the engine's brown albedo.
 #pragma once
 
 #include <memory>
