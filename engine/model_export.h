@@ -21,7 +21,8 @@
 namespace ballpit {
 
 // Writes the model as binary glTF (".glb") or as JSON glTF with its buffer beside it (".gltf":
-// FILE.gltf and FILE.bin). Any other extension is refused. Throws ballpit::Error naming the path.
+// FILE.gltf and FILE.bin, each replaced whole, the .bin first; the pair is not replaced as one).
+// Any other extension is refused. Throws ballpit::Error naming the path.
 void export_model_gltf(const Model& model, const std::string& path);
 
 }  // namespace ballpit
