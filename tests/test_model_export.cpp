@@ -226,6 +226,13 @@ TEST(ModelExport, MarineRoundTripKeepsSkeletonBindPoseClipsSkinnedVerticesAndCol
 
 TEST(ModelExport, WusonRoundTripKeepsSkeletonBindPoseClipsAndSkinnedVertices) {
   const auto wuson = import_model(kWusonPath);
+  // Its look is none of the file's: no colours, no embedded texture, and the 0.5 grey assimp
+  // makes up for a file without materials is not taken as its base colour (so the renderer
+  // keeps the engine's brown for it).
+  ASSERT_EQ(wuson->meshes.size(), 1u);
+  EXPECT_TRUE(wuson->meshes[0].colors.empty());
+  EXPECT_EQ(wuson->meshes[0].base_color_texture, nullptr);
+  EXPECT_EQ(wuson->meshes[0].base_color, Vec4::Ones());
   const auto back = round_trip(*wuson, "wuson.glb");
   // Its root, "$dummy_root", is a plain node already: no root is added.
   EXPECT_EQ(back->skeleton.size(), wuson->skeleton.size());
