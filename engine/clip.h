@@ -29,6 +29,9 @@ struct Clip {
   float duration = 0.0f;          // (unit: s); 0 for a single pose
   float ticks_per_second = 0.0f;  // the file's time base, kept for reports
   bool looping = true;            // cycles wrap; a non-looping clip holds its last key
+  // The ground speed of the root's travel that was taken out to make the clip play in place
+  // (engine/clip_sources.h), which is then its gait speed (unit: model units/s); 0: none.
+  float root_speed = 0.0f;
   std::vector<JointTrack> tracks;  // one per skeleton joint
 };
 

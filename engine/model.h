@@ -15,6 +15,9 @@ namespace ballpit {
 
 struct Model {
   std::string path;  // the file it came from, for messages
+  // The name load_model rebuilds it from, where that is not `path`: a model assembled from clip
+  // sources (engine/clip_sources.h). Snapshots name the model by it.
+  std::string load_name;
   Skeleton skeleton;
   std::vector<SkinnedMesh> meshes;
   std::vector<Clip> clips;
