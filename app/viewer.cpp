@@ -120,6 +120,8 @@ void run_viewer(const ViewerOptions& o) {
       keys.left = window.key_down(GLFW_KEY_A) || window.key_down(GLFW_KEY_LEFT);
       keys.right = window.key_down(GLFW_KEY_D) || window.key_down(GLFW_KEY_RIGHT);
       keys.run = window.key_down(GLFW_KEY_LEFT_SHIFT) || window.key_down(GLFW_KEY_RIGHT_SHIFT);
+      keys.jump = window.key_down(GLFW_KEY_SPACE);
+      keys.kick = window.key_down(GLFW_KEY_K);
       bool follow_down = window.key_down(GLFW_KEY_F);
       if (follow_down && !follow_key_was_down) view.follow_character = !view.follow_character;
       follow_key_was_down = follow_down;

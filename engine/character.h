@@ -31,18 +31,26 @@ enum class ColliderKind : std::uint8_t { Spheres, Capsules };
 // Locomotion roles, indexing the per-role arrays below.
 enum LocomotionRole : int { kIdle = 0, kWalk = 1, kRun = 2, kRoles = 3 };
 
+// One-shot actions, played over the locomotion blend (systems/actions.h), indexing the
+// per-action arrays below.
+enum ActionRole : int { kJump = 0, kKick = 1, kActions = 2 };
+
 // What a clip does at playback rate 1, measured from it at spawn (systems/locomotion.h).
 struct Gait {
   float speed = 0.0f;      // ground speed that keeps the planted foot still (unit: m/s)
   float cycle = 0.0f;      // clip duration, one locomotion cycle (unit: s)
   float touchdown = 0.0f;  // normalised time at which the reference foot is furthest forward
-  float slip = 0.0f;       // planted-foot slide per metre travelled at `speed`: the clip's own floor
+  float slip = 0.0f;       // least foot slide per metre travelled at `speed`: the clip's own floor
+  float slip_per_cycle = 0.0f;  // planted-foot slide over one cycle at `speed`, flights left out (unit: m)
+  float flight = 0.0f;     // fraction of the cycle with no foot on the ground
 };
 
 struct ControllerInput {
   float forward = 0.0f;  // -1 (backward) .. 1 (forward)
   float turn = 0.0f;     // -1 (right) .. 1 (left), seen from above with y up
   bool run = false;
+  bool jump = false;  // play the jump when no action plays (held: jump again on landing)
+  bool kick = false;  // play the kick likewise
 };
 
 // A scripted input: `input` is held for `duration` (unit: s), then the next segment starts.
@@ -86,6 +94,7 @@ struct CharacterSetup {
   std::shared_ptr<const Model> model;
   std::array<std::uint32_t, kRoles> clips{};  // clip index playing each role
   std::array<Gait, kRoles> gaits{};           // idle's is all zero
+  std::array<std::int32_t, kActions> actions{-1, -1};  // clip index of each action, -1: none
   float scale = 1.0f;                         // model units -> m
   Vec3 pivot = Vec3::Zero();                  // model point placed at the root (model units)
   Vec3 forward = Vec3::UnitZ();               // the model's facing axis (model space, unit)
@@ -128,6 +137,11 @@ struct CharacterPose {
   std::array<float, kRoles> weights{1.0f, 0.0f, 0.0f};
   std::array<ClipCursor, kRoles> cursors;
   std::array<LocalPose, kRoles> samples;    // scratch: each role's sampled pose
+  std::int32_t action = -1;                 // the ActionRole playing, -1: none
+  float action_time = 0.0f;                 // time into its clip (unit: s)
+  ClipCursor action_cursor;
+  LocalPose action_sample;                  // scratch: the action's sampled pose
+  LocalPose locomotion;                     // scratch: the locomotion blend under an action
   LocalPose local;                          // the blended pose
   std::vector<Affine3> model_previous;      // joint model transforms at the start of the step
   std::vector<Affine3> model;               // and at its end

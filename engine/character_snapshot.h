@@ -45,7 +45,9 @@ struct ColliderSnapshot {
 void capture_characters(const World& world, std::vector<CharacterSnapshot>& characters, ColliderSnapshot& colliders);
 void put_characters(snapshot_io::Writer& w, const std::vector<CharacterSnapshot>& characters,
                     const ColliderSnapshot& colliders);
-void get_characters(snapshot_io::Reader& r, std::vector<CharacterSnapshot>& characters, ColliderSnapshot& colliders);
+// `version`: the file's format (snapshot.cpp), for the fields later formats added.
+void get_characters(snapshot_io::Reader& r, std::uint32_t version, std::vector<CharacterSnapshot>& characters,
+                    ColliderSnapshot& colliders);
 // Adds the collider rows and characters to `world`, whose entity registry and spheres are
 // already restored. Throws ballpit::Error naming the character or collider row at fault.
 void restore_characters(const std::vector<CharacterSnapshot>& characters, const ColliderSnapshot& colliders,

@@ -17,6 +17,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "engine/clip_sources.h"
+#include "engine/marine/marine.h"
 #include "engine/model_probe.h"
 #include "engine/srgb.h"
 
@@ -261,26 +263,34 @@ Clip import_clip(const aiAnimation* a, std::size_t index, const Skeleton& sk) {
   return clip;
 }
 
-}  // namespace
-
-std::shared_ptr<const Model> import_model(const std::string& path) {
+// The file read by assimp, after the model probe read it safely (engine/model_probe.h).
+// `clips_only`: a file of a skeleton and animations, which assimp marks incomplete for having
+// no mesh (AI_SCENE_FLAGS_INCOMPLETE: "allows the import of animation skeletons").
+const aiScene* read_file(Assimp::Importer& importer, const std::string& path, unsigned flags, bool clips_only = false) {
   {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail_model_file(path, "is a directory, not a model file");
     std::ifstream readable(path, std::ios::binary);
     if (!readable) fail_model_file(path, std::string("cannot open it (") + std::strerror(errno) + ")");
   }
+  refuse_unless_assimp_reads_it(path, flags);
+  const aiScene* scene = importer.ReadFile(path, flags);
+  // Where no probe could run (no process to spare), assimp's refusal is learnt here.
+  if (!scene) fail_model_file(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
+  if ((!clips_only && (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) || !scene->mRootNode)
+    fail_model_file(path, "assimp read it only partly (the file is incomplete or damaged)");
+  return scene;
+}
+
+}  // namespace
+
+std::shared_ptr<const Model> import_model(const std::string& path, const ModelImportOptions& options) {
   Assimp::Importer importer;
   // Four influences at most (LimitBoneWeights' default), triangles only, and a structural
   // check so a damaged file is rejected by assimp rather than read half-way.
   const unsigned flags = aiProcess_Triangulate | aiProcess_LimitBoneWeights | aiProcess_JoinIdenticalVertices |
                          aiProcess_GenSmoothNormals | aiProcess_ValidateDataStructure;
-  refuse_unless_assimp_reads_it(path, flags);
-  const aiScene* scene = importer.ReadFile(path, flags);
-  // Where no probe could run (no process to spare), assimp's refusal is learnt here.
-  if (!scene) fail_model_file(path, std::string("assimp cannot read it: ") + importer.GetErrorString());
-  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
-    fail_model_file(path, "assimp read it only partly (the file is incomplete or damaged)");
+  const aiScene* scene = read_file(importer, path, flags);
 
   std::unordered_set<std::string> bones;
   for (unsigned i = 0; i < scene->mNumMeshes; ++i)
@@ -289,7 +299,8 @@ std::shared_ptr<const Model> import_model(const std::string& path) {
     fail_model_file(path, "has no skeleton: none of its " + std::to_string(scene->mNumMeshes) +
                               " meshes has bones, so nothing can animate it");
   }
-  if (scene->mNumAnimations == 0) fail_model_file(path, "has no animation clips (a character needs at least one)");
+  if (scene->mNumAnimations == 0 && options.require_clips)
+    fail_model_file(path, "has no animation clips (a character needs at least one)");
 
   auto model = std::make_shared<Model>();
   model->path = path;
@@ -321,6 +332,42 @@ std::shared_ptr<const Model> import_model(const std::string& path) {
   for (unsigned i = 0; i < scene->mNumAnimations; ++i)
     model->clips.push_back(import_clip(scene->mAnimations[i], i, model->skeleton));
   return model;
+}
+
+std::vector<FileClip> import_clips(const std::string& path) {
+  Assimp::Importer importer;
+  // Only the node tree and the animations are read: no mesh post-processing, since a clip file
+  // may have no mesh at all.
+  const aiScene* scene = read_file(importer, path, aiProcess_ValidateDataStructure, true);
+  if (scene->mNumAnimations == 0) fail_model_file(path, "has no animation clips");
+  std::vector<FileClip> clips;
+  for (unsigned i = 0; i < scene->mNumAnimations; ++i) {
+    const aiAnimation* a = scene->mAnimations[i];
+    FileClip clip;
+    clip.name = a->mName.length > 0 ? a->mName.C_Str() : "clip" + std::to_string(i);
+    const double tps = a->mTicksPerSecond > 0.0 ? a->mTicksPerSecond : kDefaultTicksPerSecond;
+    clip.ticks_per_second = static_cast<float>(tps);
+    clip.duration = static_cast<float>(a->mDuration / tps);
+    for (unsigned c = 0; c < a->mNumChannels; ++c) {
+      const aiNodeAnim* ch = a->mChannels[c];
+      JointTrack t;
+      import_keys(ch->mPositionKeys, ch->mNumPositionKeys, tps, t.translation_times, t.translations, to_vec);
+      import_keys(ch->mRotationKeys, ch->mNumRotationKeys, tps, t.rotation_times, t.rotations, to_quat);
+      import_keys(ch->mScalingKeys, ch->mNumScalingKeys, tps, t.scale_times, t.scales, to_vec);
+      clip.nodes.emplace_back(ch->mNodeName.C_Str());
+      clip.tracks.push_back(std::move(t));
+    }
+    clips.push_back(std::move(clip));
+  }
+  return clips;
+}
+
+bool is_builtin_model(const std::string& path) { return path == marine::kModelName; }
+
+std::shared_ptr<const Model> load_model(const std::string& path) {
+  if (path == marine::kModelName) return marine::marine_model();
+  if (is_clip_sources_name(path)) return load_clip_sources(path);
+  return import_model(path);
 }
 
 }  // namespace ballpit

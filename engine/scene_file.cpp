@@ -279,17 +279,26 @@ SceneFile builtin_scene(const std::string& name) {
 
 namespace {
 
-// A relative model path in a scene file names a file beside the scene, wherever it is run
-// from (a path given by --set stays relative to the working directory, as on a command line).
+// A relative model (or clip file) path in a scene file names a file beside the scene, wherever
+// it is run from (a path given by --set stays relative to the working directory, as on a
+// command line).
 void resolve_model_path(Json& j, const std::string& scene_path) {
   if (!j.is_object()) return;
   auto character = j.find("character");
   if (character == j.end() || !character->is_object()) return;
-  auto model = character->find("model");
-  if (model == character->end() || !model->is_string()) return;  // parse_scene names the error
-  const std::filesystem::path given = model->get<std::string>();
-  if (given.empty() || given.is_absolute()) return;
-  *model = (std::filesystem::path(scene_path).parent_path() / given).lexically_normal().string();
+  auto resolve = [&](Json& file) {
+    if (!file.is_string()) return;  // parse_scene names the error
+    const std::filesystem::path given = file.get<std::string>();
+    if (given.empty() || given.is_absolute() || is_builtin_model(given.string())) return;
+    file = (std::filesystem::path(scene_path).parent_path() / given).lexically_normal().string();
+  };
+  if (auto model = character->find("model"); model != character->end()) resolve(*model);
+  // So are the clip files of character.clips (engine/clip_sources.h).
+  auto clips = character->find("clips");
+  if (clips == character->end() || !clips->is_object()) return;
+  for (Json& source : *clips)
+    if (source.is_object())
+      if (auto file = source.find("file"); file != source.end()) resolve(*file);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "engine/character.h"
+#include "engine/clip_sources.h"
 #include "engine/math.h"
 #include "engine/model_import.h"
 #include "engine/populations.h"
@@ -44,7 +45,11 @@ struct SceneCharacter {
   std::string model = kDefaultModelPath;  // model file (assimp); in a file, relative to the file's folder
   float height = 1.8f;  // the bind pose is scaled to this height (unit: m), unless scale is set
   float scale = 0.0f;   // model units -> m; 0: from height
-  std::array<std::string, kRoles> clips = {"Wuson_Bind", "Wuson_Walk", "Wuson_Run"};  // idle, walk, run
+  // idle, walk, run, jump, kick (engine/clip_sources.h): a clip of `model` by name, or a source
+  // (another file, a range of a take, root motion made in place); jump and kick may be none.
+  RoleClips clips = {ClipSource::named(marine::kIdleClip), ClipSource::named(marine::kWalkClip),
+                     ClipSource::named(marine::kRunClip), ClipSource::named(marine::kJumpClip),
+                     ClipSource::named(marine::kKickClip)};
   Vec3 forward = Vec3::UnitZ();  // the model's facing axis in its own space
   ColliderKind colliders = ColliderKind::Capsules;
   bool scripted = true;  // "control": "script" follows `path`; "player": input from the app (idle headless)

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "engine/marine/marine.h"
+
 namespace ballpit {
 
 namespace {
@@ -165,8 +167,6 @@ Placement parse_placement(const Json& j, const std::string& path, const std::str
   return p;
 }
 
-constexpr std::initializer_list<const char*> kRoleNames = {"idle", "walk", "run"};
-
 }  // namespace
 
 Json population_to_json(const Population& p) {
@@ -208,7 +208,10 @@ Json character_to_json(const SceneCharacter& c) {
   j["model"] = c.model;
   if (c.scale > 0.0f) j["scale"] = c.scale;
   else j["height"] = c.height;
-  j["clips"] = {{"idle", c.clips[kIdle]}, {"walk", c.clips[kWalk]}, {"run", c.clips[kRun]}};
+  Json clips = Json::object();
+  for (int role = 0; role < kClipRoles; ++role)
+    clips[kClipRoleNames[static_cast<std::size_t>(role)]] = clip_source_to_json(c.clips[static_cast<std::size_t>(role)]);
+  j["clips"] = clips;
   j["forward"] = {c.forward.x(), c.forward.y(), c.forward.z()};
   j["colliders"] = c.colliders == ColliderKind::Spheres ? "spheres" : "capsules";
   j["control"] = c.scripted ? "script" : "player";
@@ -232,15 +235,23 @@ SceneCharacter parse_character(const Json& j, const std::string& source) {
                 "foot_clearance_r", "controller"});
   f.text("model", c.model);
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(c.model, ec))
-    f.fail(f.field("model"), "expected an existing model file, '" + c.model + "' does not exist");
+  if (!is_builtin_model(c.model) && !std::filesystem::is_regular_file(c.model, ec))
+    f.fail(f.field("model"), "expected an existing model file or \"" + std::string(marine::kModelName) + "\", '" +
+                                 c.model + "' does not exist");
   if (f.find("height") && f.find("scale")) f.fail(f.field("scale"), "expected either height or scale, not both");
   f.number("height", c.height, 0.0f, kNoLimit, true, "m");
   f.number("scale", c.scale, 0.0f, kNoLimit, true, "m per model unit");
   if (const Json* clips = f.find("clips")) {
-    JsonFields cf(*clips, f.field("clips"), source, {"idle", "walk", "run"});
-    int role = 0;
-    for (const char* name : kRoleNames) cf.text(name, c.clips[static_cast<std::size_t>(role++)]);
+    JsonFields cf(*clips, f.field("clips"), source, {kClipRoleNames.begin(), kClipRoleNames.end()});
+    // A role left out keeps the default model's clip, but an action left out is none: a model
+    // of the user's has no clip of the default's names, and its actions are optional.
+    for (int role = 0; role < kClipRoles; ++role) {
+      ClipSource& out = c.clips[static_cast<std::size_t>(role)];
+      if (const Json* v = cf.find(kClipRoleNames[static_cast<std::size_t>(role)]))
+        out = parse_clip_source(*v, role, cf.field(kClipRoleNames[static_cast<std::size_t>(role)]), source);
+      else if (role >= kFirstActionRole)
+        out = ClipSource{};
+    }
   }
   f.vec3("forward", c.forward, "model axis");
   if (!(std::hypot(c.forward.x(), c.forward.z()) > 0.0f))

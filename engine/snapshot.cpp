@@ -20,8 +20,9 @@ using snapshot_io::Writer;
 
 constexpr char kMagic[8] = {'B', 'A', 'L', 'L', 'P', 'I', 'T', '\x1a'};
 // 2: characters and joint colliders (version 1 held spheres only). 3: the solver's Solve sweeps
-// per substep (a version 2 file is read with one, the only count it could have run).
-constexpr std::uint32_t kVersion = 3;
+// per substep (a version 2 file is read with one, the only count it could have run). 4: the
+// characters' actions (jump, kick: clips, input, the one playing); older files have none.
+constexpr std::uint32_t kVersion = 4;
 constexpr std::uint32_t kOldestReadable = 2;
 using snapshot_io::kHeaderBytes;
 
@@ -289,7 +290,7 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   s.step_count = r.get<std::uint64_t>("step_count");
   r.array("contacts.warm_begin", s.warm_begin);
   r.array("contacts.warm", s.warm);
-  get_characters(r, s.characters, s.colliders);
+  get_characters(r, version, s.characters, s.colliders);
   if (r.at != payload.size()) r.fail("the payload has " + std::to_string(payload.size() - r.at) + " unread bytes");
   return s;
 }

@@ -3,6 +3,7 @@
 // the repository. Each seed is loaded back once and must be accepted, so every seed takes the
 // fuzzer past the parsers' first refusals into the deep code.
 // Usage: make_seeds OUT_DIR   (writes OUT_DIR/scene_file, OUT_DIR/snapshot, OUT_DIR/model_import)
+#include <array>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -105,6 +106,25 @@ void scene_seeds(const fs::path& dir) {
                                     std::string(1, '\0') + "solver.substeps=3" + std::string(1, '\0') +
                                     "gravity=[0,-5,1]");
   load_scene((dir / "small.json").string());
+  // A character whose clips come from sources (engine/clip_sources.h), every form of the
+  // section: parsed only by the target, so the absolute model path need not be beside it.
+  SceneFile sources;
+  sources.character = SceneCharacter{};
+  sources.character->model = kWusonModelPath;
+  RoleClips& clips = sources.character->clips;
+  clips = {ClipSource::named("Wuson_Bind"), ClipSource{}, ClipSource{}, ClipSource{}, ClipSource{}};
+  clips[1].file = kWusonModelPath;
+  clips[1].clip = "Wuson_Walk";
+  clips[1].range = std::array<double, 2>{0.0, 108.0};
+  clips[1].unit = ClipSource::Unit::Frames;
+  clips[1].fps = 30.0;
+  clips[1].root_motion = ClipSource::RootMotion::Auto;
+  clips[2].clip = "Wuson_Run";
+  clips[2].root_motion = ClipSource::RootMotion::InPlace;
+  clips[2].root_joint = "Root";
+  clips[4] = ClipSource::named("Wuson_Walk");
+  write(dir / "character_clips.json", scene_to_json(sources).dump(2));
+  load_scene((dir / "character_clips.json").string());
 }
 
 // A few spheres in a small pit, stepped so the warm-start cache holds contacts, one removed

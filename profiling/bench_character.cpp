@@ -34,7 +34,7 @@ namespace {
 constexpr float kFrame = 1.0f / 60.0f;  // (unit: s)
 
 const std::shared_ptr<const Model>& wuson() {
-  static const std::shared_ptr<const Model> model = import_model(kDefaultModelPath);
+  static const std::shared_ptr<const Model> model = import_model(kWusonModelPath);
   return model;
 }
 
@@ -45,7 +45,7 @@ struct Walker {
   std::unique_ptr<FixedStepLoop> loop;
   Walker() {
     world.pit.half_width = 50.0f;
-    add_character(world, wuson(), CharacterDesc{});
+    add_character(world, wuson(), CharacterDesc::wuson());
     scheduler = std::make_unique<Scheduler>(1);
     add_character_systems(*scheduler, world);
     loop = std::make_unique<FixedStepLoop>(world, *scheduler);

@@ -1,5 +1,6 @@
 #include "systems/animation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -10,6 +11,11 @@
 namespace ballpit {
 
 namespace {
+
+float smoothstep(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
 
 void pose_skeleton(const CharacterSetup& setup, float speed, CharacterPose& pose) {
   const Model& model = *setup.model;
@@ -22,14 +28,52 @@ void pose_skeleton(const CharacterSetup& setup, float speed, CharacterPose& pose
     const float t = role == kIdle ? pose.idle_time : role_clip_time(setup.gaits[role], pose.phase);
     sample_clip(clip, t, pose.cursors[role], pose.samples[role]);
   }
-  blend_poses(inputs, pose.weights, pose.local);
+  if (pose.action < 0) {
+    blend_poses(inputs, pose.weights, pose.local);
+  } else {
+    blend_poses(inputs, pose.weights, pose.locomotion);
+    const Clip& clip = model.clips[static_cast<std::size_t>(setup.actions[static_cast<std::size_t>(pose.action)])];
+    sample_clip(clip, pose.action_time, pose.action_cursor, pose.action_sample);
+    const float w = action_weight(pose.action_time, clip.duration);
+    const LocalPose* layers[2] = {&pose.locomotion, &pose.action_sample};
+    const float layer_weights[2] = {1.0f - w, w};
+    if (w >= 1.0f) {
+      pose.local = pose.action_sample;
+    } else if (w <= 0.0f) {
+      pose.local = pose.locomotion;
+    } else {
+      blend_poses(layers, layer_weights, pose.local);
+    }
+  }
   local_to_model(model.skeleton, pose.local, pose.model);
+}
+
+// Ends an action whose clip has played out, then starts the one the input asks for, if none
+// plays and the model has it.
+void advance_action(const CharacterSetup& setup, const ControllerInput& input, CharacterPose& pose, float dt) {
+  const Model& model = *setup.model;
+  if (pose.action >= 0) {
+    pose.action_time += dt;
+    const Clip& clip = model.clips[static_cast<std::size_t>(setup.actions[static_cast<std::size_t>(pose.action)])];
+    if (pose.action_time >= clip.duration) pose.action = -1;
+  }
+  if (pose.action >= 0) return;
+  const int wanted = input.jump ? kJump : input.kick ? kKick : -1;
+  if (wanted < 0 || setup.actions[static_cast<std::size_t>(wanted)] < 0) return;
+  pose.action = wanted;
+  pose.action_time = 0.0f;
+  pose.action_cursor.reset(model.skeleton.size());
 }
 
 }  // namespace
 
+float action_weight(float time, float duration) {
+  return std::min(smoothstep(time / kActionFade), smoothstep((duration - time) / kActionFade));
+}
+
 void reset_pose(const CharacterSetup& setup, const CharacterMotion& motion, CharacterPose& pose) {
   for (int role = 0; role < kRoles; ++role) pose.cursors[role].reset(setup.model->skeleton.size());
+  pose.action_cursor.reset(setup.model->skeleton.size());
   pose_skeleton(setup, motion.current.speed, pose);
   pose.model_previous = pose.model;
 }
@@ -45,11 +89,12 @@ void advance_pose(const CharacterSetup& setup, const CharacterMotion& motion, Ch
   // The idle clip keeps its own clock, wrapped so it never grows past float precision.
   const float idle_length = setup.model->clips[setup.clips[kIdle]].duration;
   pose.idle_time = idle_length > 0.0f ? std::fmod(pose.idle_time + dt, idle_length) : 0.0f;
+  advance_action(setup, motion.input, pose, dt);
   pose_skeleton(setup, motion.current.speed, pose);
 
   // Foot slip over the step: the planted foot moves least over the ground; the lowest foot
-  // (at the end of the step) is tracked beside it.
-  if (setup.feet.empty() || std::abs(mean_speed) < kSlipMinSpeed) return;
+  // (at the end of the step) is tracked beside it. An action's feet do not walk: not counted.
+  if (setup.feet.empty() || std::abs(mean_speed) < kSlipMinSpeed || pose.action >= 0) return;
   const Affine3 w0 = character_transform(setup, motion.previous);
   const Affine3 w1 = character_transform(setup, motion.current);
   float least = std::numeric_limits<float>::max(), lowest_y = least, lowest_slip = 0.0f;

@@ -26,8 +26,19 @@ constexpr float kMaxGaitSlip = 0.6f;
 
 }  // namespace
 
+CharacterDesc CharacterDesc::wuson() {
+  CharacterDesc d;
+  d.model_path = kWusonModelPath;
+  d.idle_clip = "Wuson_Bind";
+  d.walk_clip = "Wuson_Walk";
+  d.run_clip = "Wuson_Run";
+  d.jump_clip.clear();
+  d.kick_clip.clear();
+  return d;
+}
+
 Entity add_character(World& world, const CharacterDesc& desc) {
-  return add_character(world, import_model(desc.model_path), desc);
+  return add_character(world, load_model(desc.model_path), desc);
 }
 
 Entity add_character(World& world, std::shared_ptr<const Model> model, const CharacterDesc& desc) {
@@ -50,6 +61,10 @@ Entity add_character(World& world, std::shared_ptr<const Model> model, const Cha
   setup.forward = flat.normalized();
   const std::string* names[kRoles] = {&desc.idle_clip, &desc.walk_clip, &desc.run_clip};
   for (int role = 0; role < kRoles; ++role) setup.clips[role] = static_cast<std::uint32_t>(m.clip_index(*names[role]));
+  const std::string* action_names[kActions] = {&desc.jump_clip, &desc.kick_clip};
+  for (int action = 0; action < kActions; ++action)
+    if (!action_names[action]->empty())
+      setup.actions[static_cast<std::size_t>(action)] = static_cast<std::int32_t>(m.clip_index(*action_names[action]));
   setup.feet = find_feet(m);
   for (int role = kWalk; role < kRoles; ++role)
     setup.gaits[role] = measure_gait(m, setup.clips[role], setup.feet, setup.scale, setup.forward);

@@ -24,16 +24,23 @@ struct CharacterDesc {
   std::string model_path = kDefaultModelPath;
   float height = 1.8f;  // the model is scaled uniformly so its bind pose is this tall (unit: m)
   float scale = 0.0f;   // model units -> m; when > 0 it replaces `height` (a scene file may give either)
-  std::string idle_clip = "Wuson_Bind";
-  std::string walk_clip = "Wuson_Walk";
-  std::string run_clip = "Wuson_Run";
-  Vec3 forward = Vec3::UnitZ();  // the model's facing axis in its own space (the Wuson faces +z)
+  std::string idle_clip = marine::kIdleClip;
+  std::string walk_clip = marine::kWalkClip;
+  std::string run_clip = marine::kRunClip;
+  // One-shot actions the controller may trigger (engine/character.h's ActionRole); empty: the
+  // model has none, and the input to play it is ignored.
+  std::string jump_clip = marine::kJumpClip;
+  std::string kick_clip = marine::kKickClip;
+  Vec3 forward = Vec3::UnitZ();  // the model's facing axis in its own space (both models face +z)
   ColliderKind colliders = ColliderKind::Capsules;
   // Root: x and z place the pivot (the centre of the bind pose's footprint) on the floor; y
   // lifts the character's lowest bind-pose point that far above the floor (unit: m).
   Vec3 position = Vec3::Zero();
   float heading = 0.0f;  // (unit: rad), 0 faces +z, positive turns left
   ControllerSettings controller;
+
+  // The second model: Debian's Testwuson.X with its clips, which has no actions.
+  static CharacterDesc wuson();
 };
 
 // Spawns a character: imports the model (or uses the one given), checks the clips, measures

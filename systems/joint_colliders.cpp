@@ -91,8 +91,11 @@ ColliderReach collider_reach(const CharacterSetup& setup) {
   std::vector<Affine3> m;
   ColliderReach reach;
   reach.lowest = std::numeric_limits<float>::max();
-  for (int role = 0; role < kRoles; ++role) {
-    const Clip& clip = model.clips[setup.clips[role]];
+  std::vector<std::size_t> clips(setup.clips.begin(), setup.clips.end());
+  for (std::int32_t action : setup.actions)
+    if (action >= 0) clips.push_back(static_cast<std::size_t>(action));
+  for (std::size_t c : clips) {
+    const Clip& clip = model.clips[c];
     const int samples = clip.duration > 0.0f ? kReachSamples : 1;
     for (int i = 0; i < samples; ++i) {
       sample_clip(clip, clip.duration * static_cast<float>(i) / static_cast<float>(samples), cursor, local);

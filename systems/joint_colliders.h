@@ -29,7 +29,7 @@ class World;
 // joints along a long bone.
 std::vector<BoneShape> fit_bone_shapes(const Model& model, ColliderKind kind);
 
-// How far the colliders reach from the root over every pose of the role clips (sampled
+// How far the colliders reach from the root over every pose of the role and action clips (sampled
 // kReachSamples times per clip), in character space (unit: m). The controller keeps the
 // footprint circle inside the walls, so no turn can swing a limb through one; a scene lifts
 // the character by -lowest (plus clearance) so no limb dips into the floor.

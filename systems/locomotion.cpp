@@ -83,14 +83,31 @@ Gait measure_gait(const Model& model, std::size_t clip_index, std::span<const st
       v[i * nf + f] = d;
       fastest = std::max(fastest, d.norm());
     }
+  // A sample is a flight (a run's) when no foot is within kGroundContact of the lowest it goes
+  // in the cycle: nothing is planted then and nothing can slip, so it is left out. Otherwise
+  // every foot may be the planted one, however high (the Wuson's hooves tip below the planted
+  // ones in the swing, so height alone does not tell which foot bears the weight).
+  std::vector<float> lowest(nf, std::numeric_limits<float>::max());
+  for (int i = 0; i < n; ++i)
+    for (std::size_t f = 0; f < nf; ++f) lowest[f] = std::min(lowest[f], foot[i * nf + f].y());
+  std::vector<std::uint8_t> airborne(n, 1);
+  int flight = 0;
+  for (int i = 0; i < n; ++i) {
+    for (std::size_t f = 0; f < nf; ++f)
+      if (foot[i * nf + f].y() <= lowest[f] + kGroundContact) airborne[i] = 0;
+    flight += airborne[i];
+  }
+  g.flight = static_cast<float>(flight) / static_cast<float>(n);
+
   // Moving at ground speed s, foot f slides at |v + s fwd|; the planted foot is the one that
   // slides least. Played at the rate that follows ground speed (s' / speed for any ground
   // speed s'), the clip slides by s' x slip(speed) / speed: the gait speed is the s that makes
   // slip(s) / s least over the cycle. A coarse scan of (0, fastest foot], then a fine one
   // around the best.
-  auto slip = [&](float s) {
+  auto slip = [&](float s, bool in_flight_too) {
     double sum = 0.0;
     for (int i = 0; i < n; ++i) {
+      if (airborne[i] && !in_flight_too) continue;
       float least = std::numeric_limits<float>::max();
       for (std::size_t f = 0; f < nf; ++f) least = std::min(least, (v[i * nf + f] + s * fwd).norm());
       sum += least;
@@ -105,7 +122,7 @@ Gait measure_gait(const Model& model, std::size_t clip_index, std::span<const st
     for (int k = 0; k <= kGaitSpeedScan; ++k) {
       const float s = lo + step * static_cast<float>(k);
       if (!(s > 0.0f)) continue;
-      const double e = slip(s) / s;
+      const double e = slip(s, false) / s;
       if (e < best_slip) {
         best_slip = e;
         best = s;
@@ -114,8 +131,21 @@ Gait measure_gait(const Model& model, std::size_t clip_index, std::span<const st
     lo = std::max(best - step, 0.0f);
     hi = best + step;
   }
+  // A clip made in place from root motion (engine/clip_sources.h) states its speed: the travel
+  // the animator matched the feet to. The feet's best speed above is an estimate of that (it
+  // carries the clip's foot-slide error), so the stated speed is the gait speed, and the slip
+  // is the feet's at that speed: a travel the feet do not follow fails the cycle check.
+  if (clip.root_speed > 0.0f) {
+    best = scale * clip.root_speed;
+    best_slip = slip(best, false) / best;
+  }
   g.speed = best;
-  if (best > 0.0f) g.slip = static_cast<float>(best_slip / n);
+  if (best > 0.0f) {
+    // Per metre over every sample, as the animation system measures a character's slip step by
+    // step; per cycle over the planted samples only.
+    g.slip = static_cast<float>(slip(best, true) / best / n);
+    g.slip_per_cycle = static_cast<float>(best_slip * best * dt);
+  }
   return g;
 }
 

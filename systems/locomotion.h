@@ -23,12 +23,18 @@ namespace ballpit {
 inline constexpr float kFootHeightFraction = 0.15f;
 std::vector<std::uint16_t> find_feet(const Model& model);
 
+// Height above the lowest it reaches in a cycle within which a foot counts as on the ground
+// (unit: m): a sole's roll from heel to toe lifts the foot joint less than this, a swing more.
+inline constexpr float kGroundContact = 0.015f;
+
 // Gait of a clip: its ground speed is the speed at which the planted foot slides least, for
 // each metre travelled, over one cycle, in metres for the given scale (played at the rate that
 // follows ground speed, that fraction is the same at any speed); the planted foot is the foot that
 // moves least over the ground (for the Wuson foot height does not tell: its hooves tip toe-down
 // in the swing and dip below the planted ones). `forward` is the model's facing axis; the
-// touchdown is when feet[0] is furthest forward. A single-pose clip has speed 0.
+// touchdown is when feet[0] is furthest forward. A single-pose clip has speed 0. A clip whose
+// root motion was taken out (Clip::root_speed > 0) has that travel's speed (x scale) as its
+// gait speed, the authored figure, and its slip at that speed.
 Gait measure_gait(const Model& model, std::size_t clip, std::span<const std::uint16_t> feet, float scale,
                   const Vec3& forward);
 

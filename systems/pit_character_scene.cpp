@@ -47,7 +47,7 @@ Entity spawn_pit_character(World& world, std::shared_ptr<const Model> model, con
 }
 
 Entity PitCharacterScene::build(World& world, std::shared_ptr<const Model> model) const {
-  if (!model) model = import_model(character.model_path);
+  if (!model) model = load_model(character.model_path);
   pour.configure(world);
   const Entity e = spawn_pit_character(world, std::move(model), character, foot_clearance_r * pour.radius);
   // The pour's lattice (shared/SCENES.md: spacing 2.2 r, jitter +-0.05 r from seed 42, layer by

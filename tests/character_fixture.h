@@ -16,7 +16,7 @@ namespace ballpit::test {
 inline constexpr const char* kEpilepticPath = "/usr/share/assimp/models/X/BCN_Epileptic.X";
 
 inline std::shared_ptr<const Model> wuson() {
-  static const std::shared_ptr<const Model> model = import_model(kDefaultModelPath);
+  static const std::shared_ptr<const Model> model = import_model(kWusonModelPath);
   return model;
 }
 inline std::shared_ptr<const Model> epileptic() {
@@ -31,7 +31,7 @@ struct CharacterSim {
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<FixedStepLoop> loop;
 
-  explicit CharacterSim(const CharacterDesc& desc = {}, float pit_half_width = 50.0f) {
+  explicit CharacterSim(const CharacterDesc& desc = CharacterDesc::wuson(), float pit_half_width = 50.0f) {
     world.pit.half_width = pit_half_width;
     character = add_character(world, wuson(), desc);
   }

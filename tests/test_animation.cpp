@@ -268,7 +268,7 @@ TEST(Locomotion, PlaybackAtTheGaitRateSlidesTheFeetLeast) {
   EXPECT_NEAR(walk.fraction(), gaits[kWalk].slip, 0.15 * gaits[kWalk].slip);
   EXPECT_NEAR(run.fraction(), gaits[kRun].slip, 0.15 * gaits[kRun].slip);
   EXPECT_LT(walk.fraction(), 0.30);  // measured 0.24
-  EXPECT_LT(run.fraction(), 0.30);   // measured 0.26
+  EXPECT_LT(run.fraction(), 0.32);   // measured 0.29 (its gallop's flights no longer pick its speed)
   EXPECT_LT(walk.fraction(), slip_at(false, 0.5f).fraction());
   EXPECT_LT(walk.fraction(), slip_at(false, 2.0f).fraction());
   EXPECT_LT(run.fraction(), slip_at(true, 0.6f).fraction());

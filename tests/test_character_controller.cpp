@@ -85,7 +85,7 @@ TEST(CharacterController, TheCharacterNeverLeavesThePit) {
 }
 
 TEST(CharacterController, ATooSmallPitKeepsTheCharacterCentred) {
-  CharacterSim sim({}, 1.0f);
+  CharacterSim sim(CharacterDesc::wuson(), 1.0f);
   sim.start();
   sim.mut_motion().input = {1.0f, 0.0f, true};
   sim.step(120);
@@ -98,7 +98,7 @@ TEST(CharacterController, GravityNeverMovesTheCharacter) {
   // The same script under changing gravity (the app ties it to the camera) and under none:
   // the character's path is identical, bit for bit, and it never leaves its height.
   auto run = [](bool tumble) {
-    CharacterDesc desc;
+    CharacterDesc desc = CharacterDesc::wuson();
     desc.position = Vec3(0.0f, 0.3f, 0.0f);
     CharacterSim sim(desc);
     sim.start();

@@ -119,7 +119,7 @@ TEST(JointColliders, SpheresSitOnTheirJointsWithTheBonesThickness) {
 }
 
 TEST(JointColliders, ACharacterGetsOneRowPerShapeOwnedByIt) {
-  CharacterDesc desc;
+  CharacterDesc desc = CharacterDesc::wuson();
   desc.colliders = ColliderKind::Spheres;
   CharacterSim sim(desc);
   const ColliderTable& c = sim.world.colliders;

@@ -158,7 +158,7 @@ TEST(ModelImport, ImportsFinishWhileAnotherThreadAllocates) {
     for (std::size_t i = 0; !stop.load(std::memory_order_relaxed); ++i)
       held[i % held.size()] = std::make_unique<char[]>(16 + i % 4096);
   });
-  for (int i = 0; i < 10; ++i) EXPECT_NO_THROW(import_model(kDefaultModelPath)) << "import " << i;
+  for (int i = 0; i < 10; ++i) EXPECT_NO_THROW(import_model(kWusonModelPath)) << "import " << i;
   stop = true;
   churn.join();
 }
@@ -210,7 +210,7 @@ TEST(ModelImportErrors, AMissingFileNamesThePath) {
 
 TEST(ModelImportErrors, ATruncatedFileIsRejected) {
   TempDir dir;
-  const std::string whole = read_all(kDefaultModelPath);
+  const std::string whole = read_all(kWusonModelPath);
   ASSERT_GT(whole.size(), 100000u);
   // Cut in the middle of the mesh, and again just before the end.
   for (std::size_t keep : {whole.size() / 3, whole.size() - 600}) {
@@ -250,11 +250,11 @@ TEST(ModelImportErrors, AProbeStillReadingAtItsTimeLimitIsKilledAndTheFileRefuse
   write(stuck, "#!/bin/sh\necho $$ > '" + pid_file.string() + "'\nexec sleep 30\n");
   std::filesystem::permissions(stuck, std::filesystem::perms::owner_all);
   try {
-    refuse_unless_assimp_reads_it(kDefaultModelPath, 0, {stuck.string(), std::chrono::milliseconds(300)});
+    refuse_unless_assimp_reads_it(kWusonModelPath, 0, {stuck.string(), std::chrono::milliseconds(300)});
     FAIL() << "no error for a probe that never finishes";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find(kDefaultModelPath), std::string::npos) << msg;
+    EXPECT_NE(msg.find(kWusonModelPath), std::string::npos) << msg;
     EXPECT_NE(msg.find("did not finish reading it within 0.3 s"), std::string::npos) << msg;
   }
   // Killed and reaped, not left sleeping.
@@ -272,11 +272,11 @@ TEST(ModelImportErrors, ARefusalCarriesTheProbesMessageAndTheFileIsNotReadAgain)
   write(refusing, "#!/bin/sh\nprintf 'the stand-in refused it'\nexit " + std::to_string(kProbeRefused) + "\n");
   std::filesystem::permissions(refusing, std::filesystem::perms::owner_all);
   try {
-    refuse_unless_assimp_reads_it(kDefaultModelPath, 0, {refusing.string()});
+    refuse_unless_assimp_reads_it(kWusonModelPath, 0, {refusing.string()});
     FAIL() << "no error for a refused file";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find(std::string(kDefaultModelPath) + "': assimp cannot read it: the stand-in refused it"), std::string::npos)
+    EXPECT_NE(msg.find(std::string(kWusonModelPath) + "': assimp cannot read it: the stand-in refused it"), std::string::npos)
         << msg;
   }
 }
@@ -297,13 +297,13 @@ TEST(ModelImportErrors, AFileThatSwellsAssimpPastTheProbesMemoryLimitIsRefused) 
     EXPECT_NE(msg.find(path + "': assimp needed more than 256 MB to read it"), std::string::npos) << msg;
   }
   // The Wuson reads within the same cap.
-  EXPECT_NO_THROW(refuse_unless_assimp_reads_it(kDefaultModelPath, 0, probe));
+  EXPECT_NO_THROW(refuse_unless_assimp_reads_it(kWusonModelPath, 0, probe));
 }
 
 TEST(ModelImportErrors, AMissingProbeIsAnErrorThatNamesIt) {
   const std::string missing = "/nonexistent/ballpit-model-probe";
   try {
-    refuse_unless_assimp_reads_it(kDefaultModelPath, 0, {missing});
+    refuse_unless_assimp_reads_it(kWusonModelPath, 0, {missing});
     FAIL() << "no error for a missing probe";
   } catch (const Error& e) {
     const std::string msg = e.what();
@@ -323,7 +323,7 @@ TEST(ModelImportErrors, AMeshWithoutBonesHasNoSkeleton) {
 TEST(ModelImportErrors, AModelWithoutAnimationsHasNoClips) {
   TempDir dir;
   // The Wuson up to its first AnimationSet: skeleton and skinned mesh, complete, no clips.
-  const std::string whole = read_all(kDefaultModelPath);
+  const std::string whole = read_all(kWusonModelPath);
   const std::size_t cut = whole.find("AnimationSet Wuson_Run");
   ASSERT_NE(cut, std::string::npos);
   const std::filesystem::path path = dir.path / "no_clips.X";
@@ -339,13 +339,13 @@ TEST(ModelImportErrors, AnUnknownClipNameListsTheClipsThereAre) {
     FAIL() << "no error for an unknown clip";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find(kDefaultModelPath), std::string::npos) << msg;
+    EXPECT_NE(msg.find(kWusonModelPath), std::string::npos) << msg;
     EXPECT_NE(msg.find("'Wuson_Dance'"), std::string::npos) << msg;
     EXPECT_NE(msg.find("'Wuson_Walk'"), std::string::npos) << msg;
   }
   // The same through a character: the scene names clips by name.
   World world;
-  CharacterDesc desc;
+  CharacterDesc desc = CharacterDesc::wuson();
   desc.run_clip = "Wuson_Gallop";
   try {
     add_character(world, wuson(), desc);
@@ -366,7 +366,7 @@ TEST(ModelImportErrors, ADirectoryIsNotAModel) {
 TEST(ModelImportErrors, AClipThatDoesNotWalkCannotPlayWalk) {
   // The humanoid's one clip is a fit, not a walk cycle: it cannot drive locomotion.
   World world;
-  CharacterDesc desc;
+  CharacterDesc desc = CharacterDesc::wuson();
   desc.model_path = kEpilepticPath;
   desc.idle_clip = desc.walk_clip = desc.run_clip = "Epileptisch";
   try {

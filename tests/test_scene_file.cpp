@@ -98,7 +98,20 @@ SceneFile every_field_moved() {
   SceneCharacter ch;
   ch.model = test::kEpilepticPath;
   ch.scale = 0.02f;
-  ch.clips = {"Stand", "Walk", "Run"};
+  ch.clips = {ClipSource::named("Stand"), ClipSource::named("Walk"), ClipSource{}, ClipSource::named("Stand"), ClipSource{}};
+  // A clip from a file, cut by frames, its root motion made in place (engine/clip_sources.h).
+  ClipSource& run = ch.clips[kRun];
+  run.file = test::kEpilepticPath;
+  run.clip = "Run";
+  run.range = std::array<double, 2>{2.0, 30.0};
+  run.unit = ClipSource::Unit::Frames;
+  run.fps = 24.0;
+  run.root_motion = ClipSource::RootMotion::InPlace;
+  run.root_joint = "Bip01";
+  ClipSource& kick = ch.clips[4];  // a range in seconds of the model's own clip, root motion left to the role
+  kick.clip = "Walk";
+  kick.range = std::array<double, 2>{0.25, 0.75};
+  kick.root_motion = ClipSource::RootMotion::Auto;
   ch.forward = Vec3(1.0f, 0.25f, 0.0f);
   ch.colliders = ColliderKind::Spheres;
   ch.scripted = false;
@@ -129,7 +142,9 @@ SceneFile every_field_moved() {
 // list is set whole.
 void overrides_for(const Json& j, const std::string& path, std::vector<std::string>& out) {
   const std::string last = path.substr(path.rfind('.') + 1);
-  const bool whole = last == "radius" || last == "color" || last == "placement" || path == "pit.material";
+  // A clip source is a name or an object: set whole, like the radius.
+  const bool whole = last == "radius" || last == "color" || last == "placement" || path == "pit.material" ||
+                     path.rfind("character.clips.", 0) == 0;
   if (j.is_object() && !whole) {
     for (const auto& [key, value] : j.items()) overrides_for(value, path.empty() ? key : path + "." + key, out);
   } else if (j.is_array() && path == "populations") {
@@ -189,6 +204,12 @@ TEST(SceneFile, TheShippedScenesAreTheBuiltInOnes) {
   EXPECT_EQ(scene_to_json(load_scene(BALLPIT_SCENES_DIR "/pit_character.json")),
             scene_to_json(builtin_scene("pit-character")));
   EXPECT_EQ(scene_to_json(load_scene("pit-character")), scene_to_json(builtin_scene("pit-character")));
+  // The second model's scene: the Wuson with its own clips and no actions, which builds.
+  const SceneFile wuson = load_scene(BALLPIT_SCENES_DIR "/pit_character_wuson.json", {"populations.0.count=200"});
+  ASSERT_TRUE(wuson.character.has_value());
+  EXPECT_EQ(wuson.character->model, kWusonModelPath);
+  World w;
+  EXPECT_TRUE(setup_scene(wuson, w, test::wuson()).character.valid());
   const SceneFile mixed = load_scene(BALLPIT_SCENES_DIR "/mixed.json");
   ASSERT_EQ(mixed.populations.size(), 3u);
   EXPECT_EQ(mixed.populations[0].radius.kind, RadiusSpec::Kind::Normal);
@@ -295,7 +316,7 @@ TEST(SceneFile, APitSmallerThanOneSphereIsRefused) {
 
 TEST(SceneFile, AMissingModelFileIsRefused) {
   const std::string m = refusal(Json::parse(R"({"character": {"model": "/nonexistent/wuson.X"}})"));
-  EXPECT_NE(m.find("test.json: character.model: expected an existing model file, '/nonexistent/wuson.X' does not exist"),
+  EXPECT_NE(m.find("test.json: character.model: expected an existing model file or \"builtin:marine\", '/nonexistent/wuson.X' does not exist"),
             std::string::npos)
       << m;
 }
@@ -305,9 +326,8 @@ TEST(SceneFile, AnUnknownClipNameIsRefusedNamingTheField) {
   // imported then), still naming the file and the field.
   const SceneFile s = parse_scene(Json::parse(R"({"character": {"clips": {"walk": "Moonwalk"}}})"), "test.json");
   World w;
-  const std::string m = error_of([&] { setup_scene(s, w, test::wuson()); });
-  EXPECT_NE(m.find("test.json: character.clips.walk: expected a clip of model file '" + std::string(kDefaultModelPath) +
-                   "' (its clips: "),
+  const std::string m = error_of([&] { setup_scene(s, w); });
+  EXPECT_NE(m.find("test.json: character.clips.walk: expected a clip of model file 'builtin:marine' (its clips: "),
             std::string::npos)
       << m;
   EXPECT_NE(m.find("got 'Moonwalk'"), std::string::npos) << m;
@@ -389,8 +409,8 @@ TEST(SceneFile, ThePitCharacterSceneFileBuildsTheCanonicalScene) {
   PitCharacterScene canonical;
   canonical.pour.spheres = 500;
   World a, b;
-  canonical.build(a, test::wuson());
-  const SceneSetup setup = setup_scene(load_scene("pit-character", {"populations.0.count=500"}), b, test::wuson());
+  canonical.build(a);
+  const SceneSetup setup = setup_scene(load_scene("pit-character", {"populations.0.count=500"}), b);
   ASSERT_TRUE(setup.character.valid());
   EXPECT_EQ(setup.settle_steps, canonical.settle_steps);
   EXPECT_EQ(setup.path.size(), canonical.path.size());
@@ -438,7 +458,7 @@ TEST(SceneFile, OnlyWhatASceneUsesIsBuiltAndScheduled) {
 
   // A character section: the character, its collider rows and its systems; turned off, none.
   World walker;
-  setup_scene(load_scene("pit-character", {"populations.0.count=200"}), walker, test::wuson());
+  setup_scene(load_scene("pit-character", {"populations.0.count=200"}), walker);
   EXPECT_EQ(walker.characters.size(), 1u);
   EXPECT_GT(walker.colliders.size(), 0u);
   auto w = systems(walker);
@@ -534,14 +554,14 @@ TEST(SceneFile, ARelativeModelPathIsFoundBesideTheSceneFile) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ballpit_scene_model_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "models");
-  std::filesystem::copy_file(kDefaultModelPath, dir / "models" / "walker.X");
+  std::filesystem::copy_file(kWusonModelPath, dir / "models" / "walker.X");
   std::ofstream(dir / "walker.json") << R"({"character": {"model": "models/walker.X"}})";
   const SceneFile s = load_scene((dir / "walker.json").string());
   ASSERT_TRUE(s.character);
   EXPECT_EQ(s.character->model, (dir / "models" / "walker.X").string());
   // From the command line a relative path stays the working directory's: here, none.
   const std::string m = error_of([&] { load_scene((dir / "walker.json").string(), {"character.model=models/walker.X"}); });
-  EXPECT_NE(m.find("character.model: expected an existing model file, 'models/walker.X' does not exist"), std::string::npos)
+  EXPECT_NE(m.find("character.model: expected an existing model file or \"builtin:marine\", 'models/walker.X' does not exist"), std::string::npos)
       << m;
   std::filesystem::remove_all(dir);
 }

@@ -65,7 +65,7 @@ TEST(Skinning, TheWusonStandsUprightBecauseTheMeshNodeRotationIsNotApplied) {
 TEST(Skinning, ThePaletteCarriesTheCharacterIntoTheWorld) {
   // A character standing at (1, 0.2, -2) turned 90 degrees left, in its idle (bind) pose: its
   // skinned vertices are the bind vertices moved by its world transform.
-  CharacterDesc desc;
+  CharacterDesc desc = CharacterDesc::wuson();
   desc.position = Vec3(1.0f, 0.2f, -2.0f);
   desc.heading = 1.5707963f;
   CharacterSim sim(desc);

@@ -403,7 +403,7 @@ struct CharacterRun {
   void build() {
     PitCharacterScene scene;
     scene.pour.spheres = 500;
-    const Entity walker = scene.build(world, test::wuson());
+    const Entity walker = scene.build(world);
     scene.start_path(world, walker);
   }
   void start() {

@@ -87,7 +87,6 @@ GaitDesign run_design() {
   g.toe_off_pitch = 0.75f;
   g.mid_stance_ankle = -0.06f;
   g.clearance = 0.22f;
-  g.track = 0.07f;
   g.hips_drop = 0.05f;
   g.hips_bob = 0.04f;
   g.sway = 0.01f;
@@ -95,7 +94,6 @@ GaitDesign run_design() {
   g.pelvis_roll = 0.04f;
   g.lean = 0.14f;
   g.arm_swing = 0.55f;
-  g.arm_abduction = 0.22f;
   g.elbow = 1.35f;
   g.elbow_swing = 0.25f;
   return g;

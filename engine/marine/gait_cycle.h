@@ -10,6 +10,7 @@
 #pragma once
 
 #include "engine/clip.h"
+#include "engine/marine/marine_pose.h"
 #include "engine/skeleton.h"
 
 namespace ballpit::marine {
@@ -26,7 +27,7 @@ struct GaitDesign {
   float toe_off_pitch = 0.8f;     // heel up (toes down) as the toes leave the ground
   float mid_stance_ankle = -0.10f; // ankle ahead of the hip joint at mid-stance
   float clearance = 0.10f;        // extra ankle lift in mid-swing
-  float track = 0.085f;           // each foot's distance from the midline
+  float track = kStanceTrack;     // each foot's distance from the midline
   float hips_drop = 0.0f;         // hips below standing height, on average
   float hips_bob = 0.0f;          // extra drop at mid-stance, none in mid-flight (running)
   float sway = 0.02f;             // hips over the stance foot
@@ -34,7 +35,7 @@ struct GaitDesign {
   float pelvis_roll = 0.05f;      // pelvis drops on the swing side
   float lean = 0.04f;             // trunk forward
   float arm_swing = 0.3f;         // shoulder flexion amplitude, against the legs
-  float arm_abduction = 0.2f;     // arms out from the sides (clears the plate carrier)
+  float arm_abduction = kArmClearance;  // arms out from the sides
   float elbow = 0.3f;             // elbow bend at the back of the swing
   float elbow_swing = 0.2f;       // more bend at the front
 };

@@ -18,8 +18,11 @@ constexpr float kGravity = 9.81f;   // the jump's flight is ballistic (unit: m/s
 
 float standing_hips() { return bind_positions()[kHips].y(); }
 
-// Where each ankle stands, feet flat under the hips as in the bind pose.
-Vec3 standing_ankle(bool left) { return bind_positions()[left ? kLeftFoot : kRightFoot]; }
+// Where each ankle stands, feet flat, kStanceTrack from the midline.
+Vec3 standing_ankle(bool left) {
+  const Vec3 bind = bind_positions()[left ? kLeftFoot : kRightFoot];
+  return Vec3(left ? kStanceTrack : -kStanceTrack, bind.y(), bind.z());
+}
 
 // The trunk bent forward by `lean` (unit: rad), shared over the spine, head kept level.
 void lean_trunk(MarinePose& p, float lean, float yaw = 0.0f) {
@@ -31,7 +34,10 @@ void lean_trunk(MarinePose& p, float lean, float yaw = 0.0f) {
 }
 
 // A foot planted flat where it stands, or rolled onto its ball (pitch < 0: heel up).
-Vec3 standing_toe_joint(bool left) { return bind_positions()[left ? kLeftToeBase : kRightToeBase]; }
+Vec3 standing_toe_joint(bool left) {
+  const Vec3 bind = bind_positions()[left ? kLeftToeBase : kRightToeBase];
+  return Vec3(left ? kStanceTrack : -kStanceTrack, bind.y(), bind.z());
+}
 
 void plant(MarinePose& p, bool left, float pitch) {
   p.place_leg(left, ankle_from_toe_joint(standing_toe_joint(left), pitch), foot_pitch(pitch), Quat::Identity(),
@@ -59,7 +65,7 @@ Clip make_idle(const Skeleton& skeleton) {
     plant(p, false, 0.0f);
     for (int side = 0; side < 2; ++side) {
       const float s = side == 0 ? 1.0f : -1.0f;
-      p.place_arm(side == 0, 0.05f + 0.015f * breath, 0.17f + 0.02f * s * shift, 0.25f);
+      p.place_arm(side == 0, 0.05f + 0.015f * breath, kArmClearance + 0.02f * (1.0f + s * shift), 0.25f);
     }
     p.key(clip, t);
   }
@@ -117,7 +123,7 @@ Clip make_jump(const Skeleton& skeleton) {
         a.y() += p.hips.y() - take_off_height + tuck(t);
         p.place_leg(left, a, foot_pitch(-kToePoint), Quat::Identity(), Vec3::UnitZ());
       }
-      p.place_arm(left, arms(t), 0.2f, 0.3f + 0.3f * std::max(0.0f, -arms(t)));
+      p.place_arm(left, arms(t), kArmClearance, 0.3f + 0.3f * std::max(0.0f, -arms(t)));
     }
     p.key(clip, t);
   }

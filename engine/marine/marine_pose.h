@@ -35,6 +35,17 @@ Vec3 ankle_from_toe_joint(const Vec3& toe_joint, float pitch);
 // The toes' joint of a flat foot standing with its heel on `heel_ground`.
 Vec3 toe_joint_of_flat_foot(const Vec3& heel_ground);
 
+// Arms held out from his sides by this much at least (unit: rad): his hands then pass his
+// thighs more than a pit ball's diameter (8 cm) apart, so no ball is pinched between two limbs,
+// where neither could push it out (two immovable surfaces closer than a ball's width must
+// overlap it).
+inline constexpr float kArmClearance = 0.32f;
+
+// Each foot's distance from his midline when he stands, walks or runs (unit: m): wider than
+// the bind pose's hips, so his shins and boots stand and pass more than a ball's diameter
+// apart, for the same reason.
+inline constexpr float kStanceTrack = 0.125f;
+
 struct MarinePose {
   Vec3 hips = Vec3::Zero();  // Hips joint position (unit: m)
   std::array<Quat, kJoints> world;  // model-space orientation of each joint
