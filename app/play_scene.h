@@ -1,10 +1,10 @@
 // The app's default scene: the pour scene's balls (radius, mass, materials, colours, jittered
 // lattice) around the default character, in a pit wide enough for it to walk. Reads the model
 // file; writes a fresh World (pit, materials, gravity, character, balls).
-// Decision: the pit is sized for the character, not by the pour formula alone. The Wuson at
-// 1.8 m tall is 3.9 m long, and its controller keeps a 2.3 m footprint circle inside the
-// walls, so a pour-sized pit under ~50,000 balls leaves it no room to move; the balls are
-// then spread thinner. The character stands lifted as in the canonical pit-character scene
+// Decision: the pit is sized for the character, not by the pour formula alone. The marine's
+// controller keeps a 0.84 m footprint circle (his kick's reach) inside the walls and he walks
+// at 1.4 m/s, so the pit leaves his root walk_room from the centre each way, two seconds of
+// walking; a pour-sized pit under ~90,000 balls is widened to that and its balls spread thinner. The character stands lifted as in the canonical pit-character scene
 // (systems/pit_character_scene.h); lattice points inside its colliders are skipped, so no
 // ball starts inside it.
 #pragma once
@@ -21,9 +21,9 @@ class World;
 
 struct PlayScene {
   std::size_t spheres = 40000;
-  CharacterDesc character;   // the built-in Wuson unless the caller changes it
+  CharacterDesc character;   // the built-in marine unless the caller changes it
   // Room the character's root has to walk from the centre towards each wall (unit: m).
-  float walk_room = 1.5f;
+  float walk_room = 3.0f;
   bool sleeping = true;      // settled balls sleep: an idle pit costs little
 
   // Half width of the pit for a character whose footprint radius is given (unit: m).

@@ -111,7 +111,7 @@ class Render : public test::GlTest {};
 
 TEST_F(Render, TheDefaultSceneShowsColouredBallsInThePitAndTheCharacterWhereItStands) {
   Session s(scene("play", 12000));
-  for (int i = 0; i < 20; ++i) s.single_step();
+  for (int i = 0; i < 90; ++i) s.single_step();  // the pour's top layers have landed by 1.5 s
   Renderer renderer;
   RenderTarget target(kView.width, kView.height);
   OrbitCamera camera;
@@ -127,11 +127,15 @@ TEST_F(Render, TheDefaultSceneShowsColouredBallsInThePitAndTheCharacterWhereItSt
   std::sort(colours.begin(), colours.end());
   EXPECT_GT(std::unique(colours.begin(), colours.end()) - colours.begin(), 1000);
 
-  // Ball colours where the pit is: the pit's floor outline, projected.
-  const float h = s.world().pit.half_width;
-  std::array<Vec2, 4> pit;
+  // Ball colours where the pit is: the pit's floor outline, projected, and its outline at the
+  // height the balls fill it to (the pile's top shows beyond the floor's outline).
+  const float h = s.world().pit.half_width, fill = s.fill_height();
+  std::array<Vec2, 4> pit, pit_top;
   const Vec3 corners[4] = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
-  for (int i = 0; i < 4; ++i) pit[static_cast<std::size_t>(i)] = camera.project(corners[i], kView).pixel;
+  for (int i = 0; i < 4; ++i) {
+    pit[static_cast<std::size_t>(i)] = camera.project(corners[i], kView).pixel;
+    pit_top[static_cast<std::size_t>(i)] = camera.project(corners[i] + Vec3(0.0f, fill, 0.0f), kView).pixel;
+  }
   RenderSettings no_balls = all;
   no_balls.draw_spheres = false;
   const Image empty = draw(renderer, target, s, camera, no_balls);
@@ -141,6 +145,7 @@ TEST_F(Render, TheDefaultSceneShowsColouredBallsInThePitAndTheCharacterWhereItSt
   for (int y = 0; y < kView.height; ++y)
     for (int x = 0; x < kView.width; ++x) {
       const bool in_pit = inside(pit, x + 0.5f, y + 0.5f);
+      const bool over_pit = in_pit || inside(pit_top, x + 0.5f, y + 0.5f);
       const bool ball = differs(full, empty, x, y);
       if (in_pit) {
         ++pit_pixels;
@@ -149,7 +154,7 @@ TEST_F(Render, TheDefaultSceneShowsColouredBallsInThePitAndTheCharacterWhereItSt
           int e = palette_entry(full.pixel(x, y));
           if (e >= 0) ++hues[static_cast<std::size_t>(e)];
         }
-      } else if (ball) {
+      } else if (ball && !over_pit) {
         ++outside_changed;
       }
     }
@@ -175,11 +180,28 @@ TEST_F(Render, TheDefaultSceneShowsColouredBallsInThePitAndTheCharacterWhereItSt
   const Vec2 middle = camera.project(root + Vec3(0, 0.5f * height, 0), kView).pixel;
   const float height_px = (feet - top).norm();
   ASSERT_GT(height_px, 20.0f);  // big enough on screen to judge
-  // A body about as tall as the model is on screen, most of it near the projected root.
-  EXPECT_GT(body.count, static_cast<std::size_t>(0.5f * height_px * height_px));
+  // A body about as tall as the model is on screen, most of it near the projected root. A
+  // man's silhouette covers about a fifth of his height squared; the pit hides his legs.
+  EXPECT_GT(body.count, static_cast<std::size_t>(0.08f * height_px * height_px));
   EXPECT_LT((body.centroid - middle).norm(), 0.5f * height_px) << "centroid " << body.centroid.transpose()
                                                                << " projected " << middle.transpose();
   EXPECT_TRUE(differs(full, without, static_cast<int>(middle.x()), static_cast<int>(middle.y())));
+
+  // He is the marine in his camouflage: where he is drawn, many pixels are the uniform's olive
+  // greens (hue 65-110 degrees, muted: saturation 0.15-0.65; the balls' green is saturated
+  // 0.67+, the Wuson's brown is hue 30) and some its khaki and the gear's coyote (hue 30-60).
+  std::size_t olive = 0, tan = 0, drawn = 0;
+  for (int y = 0; y < kView.height; ++y)
+    for (int x = 0; x < kView.width; ++x) {
+      if (!differs(full, without, x, y)) continue;
+      ++drawn;
+      const auto [hue, saturation] = hue_saturation(full.pixel(x, y));
+      if (hue >= 65.0f && hue <= 110.0f && saturation >= 0.15f && saturation <= 0.65f) ++olive;
+      if (hue >= 30.0f && hue < 60.0f && saturation >= 0.15f && saturation <= 0.65f) ++tan;
+    }
+  std::printf("[ marine ] %zu pixels drawn: %zu olive, %zu khaki or coyote\n", drawn, olive, tan);
+  EXPECT_GT(olive, drawn / 10);
+  EXPECT_GT(tan, drawn / 20);
 }
 
 namespace {
