@@ -1,10 +1,10 @@
-// The character's per-frame work, each job alone on the Wuson (37 bones, 3205 vertices):
-// clip sampling, blending, local-to-model, skinning palette, CPU skinning, the whole
-// animation step, and the joint-collider update; then the pit-character scene of
-// shared/SCENES.md at 10k, 100k and 1M balls, ms per step with and without the character, so
-// the character's cost shows.
+// The character's per-frame work, each job alone, for both models: the marine (22 joints,
+// 10,248 vertices) and the Wuson (37 bones, 3205 vertices): clip sampling, blending,
+// local-to-model, skinning palette, CPU skinning, the whole animation step, and the
+// joint-collider update; then the pit-character scene of shared/SCENES.md (the marine) at 10k,
+// 100k and 1M balls, ms per step with and without the character, so the character's cost shows.
 //
-// Names: "character/<job>" (time per call, one character) and
+// Names: "character/<job>/<marine|wuson>" (time per call, one character) and
 // "pit_character/<with|without>/n:<N>/threads:<T>" (time per full step). The pit worlds are
 // settled once per N (the scene's 300 steps, the character standing in the pit) and copied
 // for each benchmark; settling costs the pour itself, so by default only N <= 10,000 is made
@@ -17,6 +17,7 @@
 #include <memory>
 
 #include "engine/fixed_step_loop.h"
+#include "engine/marine/marine.h"
 #include "engine/model_import.h"
 #include "engine/scheduler.h"
 #include "engine/world.h"
@@ -33,9 +34,12 @@ namespace {
 
 constexpr float kFrame = 1.0f / 60.0f;  // (unit: s)
 
-const std::shared_ptr<const Model>& wuson() {
-  static const std::shared_ptr<const Model> model = import_model(kWusonModelPath);
-  return model;
+// The two models and how a character plays each.
+enum Who { kMarine, kWuson };
+CharacterDesc desc_of(Who who) { return who == kMarine ? CharacterDesc{} : CharacterDesc::wuson(); }
+std::shared_ptr<const Model> model_of(Who who) {
+  static const std::shared_ptr<const Model> wuson = import_model(kWusonModelPath);
+  return who == kMarine ? marine::marine_model() : wuson;
 }
 
 // A character walking in an empty pit, a second in: its pose, colliders and palette are live.
@@ -43,9 +47,9 @@ struct Walker {
   World world;
   std::unique_ptr<Scheduler> scheduler;
   std::unique_ptr<FixedStepLoop> loop;
-  Walker() {
+  explicit Walker(Who who) {
     world.pit.half_width = 50.0f;
-    add_character(world, wuson(), CharacterDesc::wuson());
+    add_character(world, model_of(who), desc_of(who));
     scheduler = std::make_unique<Scheduler>(1);
     add_character_systems(*scheduler, world);
     loop = std::make_unique<FixedStepLoop>(world, *scheduler);
@@ -54,9 +58,9 @@ struct Walker {
   }
 };
 
-void BM_SampleClip(benchmark::State& state, const char* clip_name) {
-  const Model& m = *wuson();
-  const Clip& clip = m.clips[m.clip_index(clip_name)];
+void BM_SampleClip(benchmark::State& state, Who who, bool run) {
+  const Model& m = *model_of(who);
+  const Clip& clip = m.clips[m.clip_index(run ? desc_of(who).run_clip : desc_of(who).walk_clip)];
   ClipCursor cursor;
   cursor.reset(m.skeleton.size());
   LocalPose pose;
@@ -68,16 +72,18 @@ void BM_SampleClip(benchmark::State& state, const char* clip_name) {
   }
   state.counters["joints"] = static_cast<double>(m.skeleton.size());
 }
-BENCHMARK_CAPTURE(BM_SampleClip, walk, "Wuson_Walk")->Name("character/sample_clip/walk");
-BENCHMARK_CAPTURE(BM_SampleClip, run, "Wuson_Run")->Name("character/sample_clip/run");
+BENCHMARK_CAPTURE(BM_SampleClip, walk, kMarine, false)->Name("character/sample_clip/walk/marine");
+BENCHMARK_CAPTURE(BM_SampleClip, run, kMarine, true)->Name("character/sample_clip/run/marine");
+BENCHMARK_CAPTURE(BM_SampleClip, walk, kWuson, false)->Name("character/sample_clip/walk/wuson");
+BENCHMARK_CAPTURE(BM_SampleClip, run, kWuson, true)->Name("character/sample_clip/run/wuson");
 
-void BM_Blend(benchmark::State& state) {
-  const Model& m = *wuson();
+void BM_Blend(benchmark::State& state, Who who) {
+  const Model& m = *model_of(who);
   ClipCursor cursor;
   cursor.reset(m.skeleton.size());
   LocalPose walk, run, out;
-  sample_clip(m.clips[m.clip_index("Wuson_Walk")], 1.0f, cursor, walk);
-  sample_clip(m.clips[m.clip_index("Wuson_Run")], 0.4f, cursor, run);
+  sample_clip(m.clips[m.clip_index(desc_of(who).walk_clip)], 1.0f, cursor, walk);
+  sample_clip(m.clips[m.clip_index(desc_of(who).run_clip)], 0.4f, cursor, run);
   const LocalPose* poses[] = {&walk, &run};
   const float weights[] = {0.4f, 0.6f};
   for (auto _ : state) {
@@ -85,25 +91,27 @@ void BM_Blend(benchmark::State& state) {
     benchmark::DoNotOptimize(out.rotation.data());
   }
 }
-BENCHMARK(BM_Blend)->Name("character/blend/walk_run");
+BENCHMARK_CAPTURE(BM_Blend, marine, kMarine)->Name("character/blend/walk_run/marine");
+BENCHMARK_CAPTURE(BM_Blend, wuson, kWuson)->Name("character/blend/walk_run/wuson");
 
-void BM_LocalToModel(benchmark::State& state) {
-  const Model& m = *wuson();
+void BM_LocalToModel(benchmark::State& state, Who who) {
+  const Model& m = *model_of(who);
   ClipCursor cursor;
   cursor.reset(m.skeleton.size());
   LocalPose pose;
-  sample_clip(m.clips[m.clip_index("Wuson_Run")], 0.4f, cursor, pose);
+  sample_clip(m.clips[m.clip_index(desc_of(who).run_clip)], 0.4f, cursor, pose);
   std::vector<Affine3> model;
   for (auto _ : state) {
     local_to_model(m.skeleton, pose, model);
     benchmark::DoNotOptimize(model.data());
   }
 }
-BENCHMARK(BM_LocalToModel)->Name("character/local_to_model");
+BENCHMARK_CAPTURE(BM_LocalToModel, marine, kMarine)->Name("character/local_to_model/marine");
+BENCHMARK_CAPTURE(BM_LocalToModel, wuson, kWuson)->Name("character/local_to_model/wuson");
 
-void BM_AnimationStep(benchmark::State& state) {
+void BM_AnimationStep(benchmark::State& state, Who who) {
   // Phase, weights, sampling of the clips with weight, blend, local-to-model, foot slip.
-  Walker w;
+  Walker w(who);
   const CharacterSetup& setup = w.world.characters.setup(0);
   const CharacterMotion& motion = w.world.characters.motion(0);
   CharacterPose& pose = w.world.characters.mut_pose(0);
@@ -112,10 +120,11 @@ void BM_AnimationStep(benchmark::State& state) {
     benchmark::DoNotOptimize(pose.model.data());
   }
 }
-BENCHMARK(BM_AnimationStep)->Name("character/animation_step");
+BENCHMARK_CAPTURE(BM_AnimationStep, marine, kMarine)->Name("character/animation_step/marine");
+BENCHMARK_CAPTURE(BM_AnimationStep, wuson, kWuson)->Name("character/animation_step/wuson");
 
-void BM_SkinningPalette(benchmark::State& state) {
-  Walker w;
+void BM_SkinningPalette(benchmark::State& state, Who who) {
+  Walker w(who);
   const CharacterSetup& setup = w.world.characters.setup(0);
   const CharacterPose& pose = w.world.characters.pose(0);
   const Affine3 world = character_transform(setup, w.world.characters.motion(0).current);
@@ -126,10 +135,11 @@ void BM_SkinningPalette(benchmark::State& state) {
   }
   state.counters["bones"] = static_cast<double>(setup.model->meshes[0].bone_joint.size());
 }
-BENCHMARK(BM_SkinningPalette)->Name("character/skinning_palette");
+BENCHMARK_CAPTURE(BM_SkinningPalette, marine, kMarine)->Name("character/skinning_palette/marine");
+BENCHMARK_CAPTURE(BM_SkinningPalette, wuson, kWuson)->Name("character/skinning_palette/wuson");
 
-void BM_CpuSkinning(benchmark::State& state) {
-  Walker w;
+void BM_CpuSkinning(benchmark::State& state, Who who) {
+  Walker w(who);
   const SkinnedMesh& mesh = w.world.characters.setup(0).model->meshes[0];
   const std::vector<Mat4>& palette = w.world.characters.pose(0).palettes[0];
   std::vector<Vec3> out;
@@ -139,17 +149,19 @@ void BM_CpuSkinning(benchmark::State& state) {
   }
   state.counters["vertices"] = static_cast<double>(mesh.positions.size());
 }
-BENCHMARK(BM_CpuSkinning)->Name("character/cpu_skinning");
+BENCHMARK_CAPTURE(BM_CpuSkinning, marine, kMarine)->Name("character/cpu_skinning/marine");
+BENCHMARK_CAPTURE(BM_CpuSkinning, wuson, kWuson)->Name("character/cpu_skinning/wuson");
 
-void BM_ColliderUpdate(benchmark::State& state) {
-  Walker w;
+void BM_ColliderUpdate(benchmark::State& state, Who who) {
+  Walker w(who);
   for (auto _ : state) {
     update_colliders(w.world, 0);
     benchmark::DoNotOptimize(w.world.colliders.a().data());
   }
   state.counters["colliders"] = static_cast<double>(w.world.colliders.size());
 }
-BENCHMARK(BM_ColliderUpdate)->Name("character/collider_update");
+BENCHMARK_CAPTURE(BM_ColliderUpdate, marine, kMarine)->Name("character/collider_update/marine");
+BENCHMARK_CAPTURE(BM_ColliderUpdate, wuson, kWuson)->Name("character/collider_update/wuson");
 
 // ---- the pit-character scene ------------------------------------------------------------
 
@@ -166,7 +178,7 @@ const World& settled_pit(std::size_t n, int threads) {
     slot = std::make_unique<World>();
     PitCharacterScene scene;
     scene.pour.spheres = n;
-    scene.build(*slot, wuson());
+    scene.build(*slot);  // the marine
     omp_set_num_threads(threads);
     Scheduler scheduler(threads);
     add_character_systems(scheduler, *slot);
