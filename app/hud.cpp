@@ -147,7 +147,10 @@ void draw_hud(Session& session, ViewState& view, const Profiler& frame_profiler,
   if (!view.status.empty()) ImGui::TextWrapped("%s", view.status.c_str());
   ImGui::TextDisabled("drag: orbit  right drag: pan  wheel: zoom");
   ImGui::TextDisabled("Q/E: roll camera  P: pause  N: step  F12: shot");
-  if (session.has_character()) ImGui::TextDisabled("WASD/arrows: walk  Shift: run  Space: jump  K: kick  F: follow");
+  if (session.has_character()) {
+    ImGui::TextDisabled("WASD/arrows: walk  Shift: run  F: follow");
+    ImGui::TextDisabled("Space: jump  K: kick");
+  }
   ImGui::End();
 }
 
