@@ -34,7 +34,7 @@ struct SkinnedMesh {
   // base colour does: base_color x vertex colour x texture at the vertex's coordinates.
   Vec4 base_color = Vec4::Ones();                      // the material's, linear RGBA
   std::vector<std::array<std::uint8_t, 4>> colors;     // per vertex, sRGB RGB + alpha; empty: none
-  std::vector<Vec2> uvs;                               // per vertex; empty: no texture coordinates
+  std::vector<Vec2> uvs;  // per vertex, (0, 0) the image's top-left texel as glTF has it; empty: none
   std::shared_ptr<const Texture> base_color_texture;   // null: none
 };
 
