@@ -132,8 +132,8 @@ float highest(const std::vector<float>& v) { return *std::max_element(v.begin(),
 // and Motor Control of Human Movement", walking at natural cadence; Novacheck, "The
 // biomechanics of running", 1998), widened by about 10 degrees for his build and for angles
 // measured between segments in model space (hip: the thigh against the vertical, so the trunk's
-// lean is not in it). Measured at the head: walk knee 6.6..69.3, hip -32..40, ankle -26..9;
-// run knee 6.5..110.5, hip -10..61, ankle -32..26 degrees.
+// lean is not in it). Measured at the head: walk knee 6.6..68.7, hip -32..40, ankle -26..9;
+// run knee 6.5..110.2, hip -10..61, ankle -32..26 degrees.
 TEST(MarineGait, JointAnglesFollowHumanGaitData) {
   const Model& m = gait_model();
   const Curves walk = sample(m.clips[m.clip_index(kWalkClip)], 240);
