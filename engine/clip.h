@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/math.h"
+#include "engine/skeleton.h"
 
 namespace ballpit {
 
@@ -34,5 +35,9 @@ struct Clip {
   float root_speed = 0.0f;
   std::vector<JointTrack> tracks;  // one per skeleton joint
 };
+
+// One track per joint of the skeleton, each holding the joint's rest pose as its single key:
+// what a clip is before the keys a file animates are read into it.
+void rest_tracks(const Skeleton& skeleton, Clip& clip);
 
 }  // namespace ballpit

@@ -172,16 +172,7 @@ Clip match_to_skeleton(const FileClip& f, const Model& m, const std::string& at)
   clip.name = f.name;
   clip.duration = f.duration;
   clip.ticks_per_second = f.ticks_per_second;
-  clip.tracks.resize(sk.size());
-  for (std::size_t j = 0; j < sk.size(); ++j) {
-    JointTrack& t = clip.tracks[j];
-    t.translation_times = {0.0f};
-    t.translations = {sk.rest_translation[j]};
-    t.rotation_times = {0.0f};
-    t.rotations = {sk.rest_rotation[j]};
-    t.scale_times = {0.0f};
-    t.scales = {sk.rest_scale[j]};
-  }
+  rest_tracks(sk, clip);
   std::vector<std::string> lacking;
   std::size_t matched = 0;
   for (std::size_t c = 0; c < f.nodes.size(); ++c) {

@@ -16,6 +16,19 @@ int Skeleton::find(std::string_view name) const {
   return -1;
 }
 
+void rest_tracks(const Skeleton& sk, Clip& clip) {
+  clip.tracks.resize(sk.size());
+  for (std::size_t j = 0; j < sk.size(); ++j) {
+    JointTrack& t = clip.tracks[j];
+    t.translation_times = {0.0f};
+    t.translations = {sk.rest_translation[j]};
+    t.rotation_times = {0.0f};
+    t.rotations = {sk.rest_rotation[j]};
+    t.scale_times = {0.0f};
+    t.scales = {sk.rest_scale[j]};
+  }
+}
+
 std::size_t Model::vertex_count() const {
   std::size_t n = 0;
   for (const SkinnedMesh& m : meshes) n += m.positions.size();

@@ -238,16 +238,7 @@ Clip import_clip(const aiAnimation* a, std::size_t index, const Skeleton& sk) {
   const double tps = a->mTicksPerSecond > 0.0 ? a->mTicksPerSecond : kDefaultTicksPerSecond;
   clip.ticks_per_second = static_cast<float>(tps);
   clip.duration = static_cast<float>(a->mDuration / tps);
-  clip.tracks.resize(sk.size());
-  for (std::size_t j = 0; j < sk.size(); ++j) {
-    JointTrack& t = clip.tracks[j];
-    t.translation_times = {0.0f};
-    t.translations = {sk.rest_translation[j]};
-    t.rotation_times = {0.0f};
-    t.rotations = {sk.rest_rotation[j]};
-    t.scale_times = {0.0f};
-    t.scales = {sk.rest_scale[j]};
-  }
+  rest_tracks(sk, clip);
   for (unsigned c = 0; c < a->mNumChannels; ++c) {
     const aiNodeAnim* ch = a->mChannels[c];
     int j = sk.find(ch->mNodeName.C_Str());
