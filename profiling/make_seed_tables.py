@@ -34,6 +34,8 @@ def main():
     ap.add_argument("jsonl")
     ap.add_argument("--origin", required=True)
     ap.add_argument("--character", default="")
+    ap.add_argument("--character-machine", default="",
+                    help="where the character rows were measured, when not in the pour rows' sitting")
     ap.add_argument("--md", required=True)
     a = ap.parse_args()
     lines = load_jsonl(a.jsonl)
@@ -143,7 +145,10 @@ def main():
         out.append("ms/step: mean of the two halves' medians of `ballpit run --scene pit-character` "
                    f"({character[0]['steps']} steps of the scripted path after the untimed settling, "
                    f"{character[0]['threads']} threads); 'character systems' is the runner's "
-                   "character_ms_per_step, 'balls inside' its balls_inside_colliders (worst step).\n")
+                   "character_ms_per_step, 'balls inside' its balls_inside_colliders (worst step). The "
+                   "character is the default one, the marine." +
+                   (f" These rows were measured apart from the tables above: {a.character_machine}" if a.character_machine else "") +
+                   "\n")
         out.append(md_table(["n", "naive ms", "grid ms", "character systems ms", "balls inside colliders",
                              "original fps k=1 / 6 / 12 / no col."], table))
     with open(a.md, "w") as f:
