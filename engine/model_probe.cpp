@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -60,6 +61,10 @@ constexpr bool kSanitized = false;
 
 // The build tree's probe (engine/CMakeLists.txt).
 constexpr const char* kBuiltProbe = BALLPIT_MODEL_PROBE_PATH;
+
+// set_probe_program's, empty for kBuiltProbe.
+std::mutex g_program_mutex;
+std::string g_program;
 
 // The most of assimp's message the importer keeps: it is one line, naming what it could not
 // parse, and an error must stay readable whatever the file made of it.
@@ -144,6 +149,16 @@ void fail_model_file(const std::string& path, const std::string& what) {
   throw Error("model file '" + path + "': " + what);
 }
 
+void set_probe_program(const std::string& program) {
+  const std::lock_guard<std::mutex> lock(g_program_mutex);
+  g_program = program;
+}
+
+std::string probe_program() {
+  const std::lock_guard<std::mutex> lock(g_program_mutex);
+  return g_program.empty() ? std::string(kBuiltProbe) : g_program;
+}
+
 bool probe_limits_memory() { return !kSanitized; }
 
 void limit_probe_memory(std::size_t megabytes) {
@@ -166,7 +181,7 @@ int read_in_probe(const char* path, unsigned flags) {
 }
 
 void refuse_unless_assimp_reads_it(const std::string& path, unsigned flags, const ProbeSettings& probe) {
-  const std::string program = probe.program.empty() ? kBuiltProbe : probe.program;
+  const std::string program = probe.program.empty() ? probe_program() : probe.program;
   const std::string flag_text = std::to_string(flags), memory_text = std::to_string(probe.memory_limit_mb);
   char* const argv[] = {const_cast<char*>(program.c_str()), const_cast<char*>(flag_text.c_str()),
                         const_cast<char*>(memory_text.c_str()), const_cast<char*>(path.c_str()), nullptr};

@@ -34,10 +34,17 @@ inline constexpr int kProbeOutOfMemory = 4;  // assimp wanted more memory than t
 // limit, is refused at 1 GB in under a second. Sanitizer builds, whose shadow memory is address
 // space, run without the cap.
 struct ProbeSettings {
-  std::string program;  // empty: this build's ballpit-model-probe
+  std::string program;  // empty: probe_program()
   std::chrono::milliseconds time_limit{4'000};
   std::size_t memory_limit_mb = 1024;
 };
+
+// The probe that runs where ProbeSettings names none: the one set last, else this build's
+// ballpit-model-probe (its path is compiled in). An installed library sets the installed probe
+// (ballpit::Simulation does, from the CMake package; api/ballpit.h), since the build's may be
+// gone. Thread-safe; an empty program restores the build's.
+void set_probe_program(const std::string& program);
+std::string probe_program();
 
 // Throws ballpit::Error for a model file it refuses: "model file 'PATH': WHAT". The importer
 // and the probe word every refusal so.
