@@ -165,7 +165,7 @@ Clip make_gait_clip(const Skeleton& skeleton, const GaitDesign& g) {
     MarinePose& p = frames[static_cast<std::size_t>(i)].pose;
     const float yaw = -g.pelvis_yaw * std::cos(2.0f * kPi * u);
     p.world[kSpine] = about_y(0.4f * yaw) * about_x(0.5f * g.lean);
-    p.world[kSpine1] = about_y(0.0f) * about_x(g.lean);
+    p.world[kSpine1] = about_x(g.lean);
     p.world[kSpine2] = about_y(-0.8f * yaw) * about_x(g.lean);  // the chest turns against the pelvis
     p.world[kNeck] = about_y(-0.3f * yaw) * about_x(0.5f * g.lean);
     p.world[kHead] = about_x(0.2f * g.lean);  // eyes level, ahead

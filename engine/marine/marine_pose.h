@@ -16,8 +16,9 @@
 
 namespace ballpit::marine {
 
-// Rotations about the model axes by an angle (unit: rad): pitch about x (positive tips +y
-// toward +z... see each use), yaw about +y, roll about +z.
+// Rotations about the model axes by an angle (unit: rad), right-handed: about x a positive
+// angle turns +y toward +z (a trunk leaning forward), about y turns +z toward +x (a left
+// turn), about z turns +x toward +y.
 Quat about_x(float angle);
 Quat about_y(float angle);
 Quat about_z(float angle);
