@@ -111,6 +111,7 @@ Clip make_gait_clip(const Skeleton& skeleton, const GaitDesign& g) {
   struct Frame {
     MarinePose pose;
     FootState feet[2];
+    float yaw;  // the pelvis's turn; the chest turns against it
   };
   std::vector<Frame> frames(static_cast<std::size_t>(n));
   std::vector<float> ceiling(static_cast<std::size_t>(n));
@@ -121,6 +122,7 @@ Clip make_gait_clip(const Skeleton& skeleton, const GaitDesign& g) {
     // Towards the left foot when it bears the weight (its mid-stance), the right half a cycle on.
     const float over_left = std::sin(2.0f * kPi * (u - mid_stance + 0.25f));
     const float yaw = -g.pelvis_yaw * std::cos(2.0f * kPi * u);  // the left hip forward at its heel strike
+    f.yaw = yaw;
     const Quat pelvis = about_y(yaw) * about_z(g.pelvis_roll * over_left) * about_x(0.3f * g.lean);
     f.pose.world[kHips] = pelvis;
     f.pose.hips.x() = g.sway * over_left;
@@ -163,7 +165,7 @@ Clip make_gait_clip(const Skeleton& skeleton, const GaitDesign& g) {
   for (int i = 0; i < n; ++i) {
     const float u = static_cast<float>(i) / static_cast<float>(n);
     MarinePose& p = frames[static_cast<std::size_t>(i)].pose;
-    const float yaw = -g.pelvis_yaw * std::cos(2.0f * kPi * u);
+    const float yaw = frames[static_cast<std::size_t>(i)].yaw;
     p.world[kSpine] = about_y(0.4f * yaw) * about_x(0.5f * g.lean);
     p.world[kSpine1] = about_x(g.lean);
     p.world[kSpine2] = about_y(-0.8f * yaw) * about_x(g.lean);  // the chest turns against the pelvis

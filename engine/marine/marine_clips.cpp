@@ -18,10 +18,11 @@ constexpr float kGravity = 9.81f;   // the jump's flight is ballistic (unit: m/s
 
 float standing_hips() { return bind_positions()[kHips].y(); }
 
-// Where each ankle stands, feet flat, kStanceTrack from the midline.
-Vec3 standing_ankle(bool left) {
-  const Vec3 bind = bind_positions()[left ? kLeftFoot : kRightFoot];
-  return Vec3(left ? kStanceTrack : -kStanceTrack, bind.y(), bind.z());
+// Where a foot joint (ankle or toes) is when he stands: its bind position, moved out to
+// kStanceTrack from the midline.
+Vec3 standing(Joint foot_joint) {
+  const Vec3 bind = bind_positions()[foot_joint];
+  return Vec3(is_left(foot_joint) ? kStanceTrack : -kStanceTrack, bind.y(), bind.z());
 }
 
 // The trunk bent forward by `lean` (unit: rad), shared over the spine, head kept level.
@@ -34,14 +35,9 @@ void lean_trunk(MarinePose& p, float lean, float yaw = 0.0f) {
 }
 
 // A foot planted flat where it stands, or rolled onto its ball (pitch < 0: heel up).
-Vec3 standing_toe_joint(bool left) {
-  const Vec3 bind = bind_positions()[left ? kLeftToeBase : kRightToeBase];
-  return Vec3(left ? kStanceTrack : -kStanceTrack, bind.y(), bind.z());
-}
-
 void plant(MarinePose& p, bool left, float pitch) {
-  p.place_leg(left, ankle_from_toe_joint(standing_toe_joint(left), pitch), foot_pitch(pitch), Quat::Identity(),
-              Vec3::UnitZ());
+  const Vec3 toes = standing(left ? kLeftToeBase : kRightToeBase);
+  p.place_leg(left, ankle_from_toe_joint(toes, pitch), foot_pitch(pitch), Quat::Identity(), Vec3::UnitZ());
 }
 
 int key_count(float duration) { return static_cast<int>(std::lround(duration * kKeyRate)); }
@@ -119,7 +115,7 @@ Clip make_jump(const Skeleton& skeleton) {
         plant(p, left, heel(t));
       } else {
         // In the air the feet hang from the hips as they left the ground, tucking up a little.
-        Vec3 a = ankle_from_toe_joint(standing_toe_joint(left), -kToePoint);
+        Vec3 a = ankle_from_toe_joint(standing(left ? kLeftToeBase : kRightToeBase), -kToePoint);
         a.y() += p.hips.y() - take_off_height + tuck(t);
         p.place_leg(left, a, foot_pitch(-kToePoint), Quat::Identity(), Vec3::UnitZ());
       }
@@ -135,7 +131,7 @@ Clip make_jump(const Skeleton& skeleton) {
 // follows through high, then steps back down where it stood. The left foot stays planted.
 Clip make_kick(const Skeleton& skeleton) {
   constexpr float kDuration = 1.3f;
-  const Vec3 stand = standing_ankle(false);
+  const Vec3 stand = standing(kRightFoot);
   const float x = stand.x();
   // The right ankle's path (unit: m, s) and the foot's pitch along it.
   const KeyCurve ax{{0.0f, x}, {0.25f, x + 0.01f}, {0.62f, x + 0.03f}, {0.9f, x + 0.02f}, {1.15f, x}};
