@@ -161,14 +161,25 @@ class Simulation {
 
   // --- Reading, without copying ---
   // The engine's columns, one row per sphere. Rows are reordered every step (by grid cell, so
-  // neighbours sit together in memory): sphere_ids() says which sphere each row is, and a span
-  // is valid until the next call that changes the Simulation (step, add_*, load).
+  // neighbours sit together in memory): sphere_ids() says which sphere each row is. A column's
+  // address is stable across steps while the sphere count does not change (the reorder moves
+  // rows within each column's own buffer, engine/sphere_table.h), so a span taken once sees
+  // every step's values; it is invalid after a call that changes the sphere count or replaces
+  // the state (add_sphere, load) and with the Simulation.
   std::size_t sphere_count() const;
   std::span<const float> positions() const;   // x, y, z of each row (unit: m), 3 x sphere_count()
   std::span<const float> velocities() const;  // x, y, z of each row (unit: m/s)
   std::span<const float> radii() const;       // one per row (unit: m)
   std::span<const std::uint32_t> sphere_ids() const;  // the id add_sphere returned, per row
   std::size_t collider_count() const;
+
+  // --- Writing, validated ---
+  // New positions (unit: m) or velocities (unit: m/s) for every row, as the spans above lay
+  // them out: x, y, z of each row in row order, 3 x sphere_count() floats. Every value must be
+  // finite; the first row that is not is named (with its sphere id), and nothing changes.
+  // Wakes every sleeper, since a pile moved by hand is no longer at rest.
+  void set_positions(std::span<const float> xyz);
+  void set_velocities(std::span<const float> xyz);
 
   // The error figures and state hash of `ballpit run`'s report, measured now (a search of its
   // own over every pair: O(N log N), not free; call it when a report is wanted).

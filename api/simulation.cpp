@@ -8,6 +8,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -223,6 +224,42 @@ std::span<const float> Simulation::velocities() const { return flat(impl_->world
 std::span<const float> Simulation::radii() const { return impl_->world.spheres.radius(); }
 std::span<const std::uint32_t> Simulation::sphere_ids() const { return impl_->world.spheres.entity_index(); }
 std::size_t Simulation::collider_count() const { return impl_->world.colliders.size(); }
+
+namespace {
+
+// Checks a flat x, y, z array against the table's rows, then copies it into `column` and wakes
+// every sphere (as World::set_gravity does); throws ballpit::Error naming the first bad row.
+void write_rows(SphereTable& spheres, std::span<Vec3> column, std::span<const float> xyz, const std::string& call,
+                const char* what) {
+  const std::size_t n = spheres.size();
+  if (xyz.size() != 3 * n)
+    throw Error(call + ": expected x, y, z for each of the " + std::to_string(n) +
+                " spheres (" + std::to_string(3 * n) + " floats), got " + std::to_string(xyz.size()));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < 3; ++k)
+      if (!std::isfinite(xyz[3 * i + k]))
+        throw Error(call + ": row " + std::to_string(i) + " (sphere id " +
+                    std::to_string(spheres.entity_index()[i]) + "): " + what + " must be finite, got (" +
+                    std::to_string(xyz[3 * i]) + ", " + std::to_string(xyz[3 * i + 1]) + ", " +
+                    std::to_string(xyz[3 * i + 2]) + ")");
+  for (std::size_t i = 0; i < n; ++i) column[i] = Vec3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+  auto asleep = spheres.mut_asleep();
+  auto still = spheres.mut_still_time();
+  std::fill(asleep.begin(), asleep.end(), std::uint8_t{0});
+  std::fill(still.begin(), still.end(), 0.0f);
+}
+
+}  // namespace
+
+void Simulation::set_positions(std::span<const float> xyz) {
+  SphereTable& s = impl_->world.spheres;
+  write_rows(s, s.mut_position(), xyz, "set_positions", "position");
+}
+
+void Simulation::set_velocities(std::span<const float> xyz) {
+  SphereTable& s = impl_->world.spheres;
+  write_rows(s, s.mut_velocity(), xyz, "set_velocities", "velocity");
+}
 
 Report Simulation::report() const {
   const World& w = impl_->world;

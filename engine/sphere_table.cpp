@@ -143,7 +143,9 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
   {
     // A settled pit's reorder moves a tenth of the rows or less (100k pour: 4 to 13%): each
     // thread lists the rows of its share that move and copies only those, through the
-    // targets and back. A busier reorder gathers every row and swaps the columns whole.
+    // targets and back. A busier reorder gathers every row into the targets and copies them
+    // all back: the columns keep their buffers, so a view of one (api/ballpit.h, the Python
+    // module) stays valid across steps.
     std::vector<std::uint32_t>& mine = moved_[static_cast<std::size_t>(omp_get_thread_num())];
     mine.clear();
 #pragma omp for schedule(static)
@@ -169,11 +171,15 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
         for (std::int64_t i = 0; i < rows; ++i) target[i] = column[new_to_old[i]];
       });
 #pragma omp barrier
-#pragma omp single
-      each_column(*this, [](auto& column, auto& target) { column.swap(target); });
-      // and the single's barrier
+      // Every target is whole: copy each back, and map entities from the targets' copy.
+      each_column(*this, [](auto& column, auto& target) {
+        const std::int64_t rows = static_cast<std::int64_t>(column.size());
+#pragma omp for schedule(static) nowait
+        for (std::int64_t i = 0; i < rows; ++i) column[i] = target[i];
+      });
+      const std::uint32_t* entity = targets_.entity.data();
 #pragma omp for schedule(static)
-      for (std::int64_t i = 0; i < n; ++i) row_of_[entity_[i]] = static_cast<std::uint32_t>(i);
+      for (std::int64_t i = 0; i < n; ++i) row_of_[entity[i]] = static_cast<std::uint32_t>(i);
     }
   }
 }

@@ -2,6 +2,11 @@
 // are reordered every step (by grid cell, so neighbours sit together in memory); the entity ->
 // row map follows each reorder, so handles stay valid while rows move.
 //
+// A column's address is stable across steps while the sphere count does not change: a reorder
+// moves rows within each column's own buffer (permute()), so a view of a column (api/ballpit.h's
+// spans, the Python module's NumPy arrays) sees every step without being taken again. Adding,
+// removing or clearing spheres, reserve() and set_angular() may move a column.
+//
 // Angular velocity is allocated only when a scene has friction: without friction nothing can
 // spin a smooth sphere, and the column would cost 12 bytes a sphere for nothing.
 #pragma once
@@ -77,7 +82,7 @@ class SphereTable {
   std::span<std::uint8_t> mut_asleep() { return write(ColumnId::SphereSleep, asleep_); }
 
   // Moves row new_to_old[i] to row i for every column, and updates the entity -> row map.
-  // new_to_old must be a permutation of [0, size()).
+  // new_to_old must be a permutation of [0, size()). Each column keeps its buffer.
   void permute(std::span<const std::uint32_t> new_to_old);
 
   // Bytes held per sphere by the columns, permute()'s targets included (for the memory report).
@@ -112,8 +117,10 @@ class SphereTable {
   std::vector<std::uint32_t> row_of_;  // entity index -> row, kNoRow if not a sphere
   bool has_angular_ = false;
 
-  // permute()'s targets, swapped with the columns after each reorder: a reorder every step
-  // then neither allocates nor zeroes a column, and gathers them all in one parallel region.
+  // permute()'s targets: rows are gathered here and copied back, so a reorder every step
+  // neither allocates nor zeroes a column, gathers them all in one parallel region, and leaves
+  // each column where it was. (Swapping a column with its target instead saved the copy back
+  // but moved every column every step, so no view of one outlived a step.)
   struct Targets {
     Column<Vec3> position, velocity, angular_velocity;
     Column<float> radius, inv_mass, still_time;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include "api/ballpit.h"
@@ -80,6 +81,37 @@ TEST(Api, TheSpansAreTheColumnsInRowOrderWithTheirIds) {
   const Report r = sim.report();
   EXPECT_EQ(r.escaped, 0u);
   EXPECT_GT(r.kinetic_energy_j, 0.0);
+}
+
+TEST(Api, ASpanTakenOnceShowsEveryStep) {
+  // The columns stay where they are while the sphere count holds (engine/sphere_table.h): a
+  // span taken before the steps views the state after them.
+  Simulation sim = Simulation::from_scene("pour", kSmallPour);
+  sim.step(1);
+  const std::span<const float> positions = sim.positions(), velocities = sim.velocities();
+  const std::vector<float> before(positions.begin(), positions.end());
+  sim.step(kSteps);
+  EXPECT_EQ(sim.positions().data(), positions.data());
+  EXPECT_EQ(sim.velocities().data(), velocities.data());
+  EXPECT_FALSE(std::equal(before.begin(), before.end(), positions.begin()));
+}
+
+TEST(Api, SettersWriteEveryRowOrNoneAndNameTheBadRow) {
+  Simulation sim = Simulation::from_scene("pour", kSmallPour);
+  sim.step(2);
+  const std::size_t n = sim.sphere_count();
+  std::vector<float> xyz(sim.positions().begin(), sim.positions().end());
+  for (float& v : xyz) v += 0.25f;
+  sim.set_positions(xyz);
+  EXPECT_TRUE(std::equal(xyz.begin(), xyz.end(), sim.positions().begin()));
+  std::vector<float> speeds(3 * n, 0.0f);
+  speeds[3 * 7 + 2] = std::numeric_limits<float>::quiet_NaN();
+  const std::string id = std::to_string(sim.sphere_ids()[7]);
+  EXPECT_NE(error_of([&] { sim.set_velocities(speeds); }).find("set_velocities: row 7 (sphere id " + id + "): velocity must be finite"),
+            std::string::npos);
+  EXPECT_LT(sim.velocities()[3 * 7 + 1], 0.0f);  // unchanged: the balls are falling
+  EXPECT_NE(error_of([&] { sim.set_positions(std::span<const float>(xyz).first(3 * n - 1)); }).find("got " + std::to_string(3 * n - 1)),
+            std::string::npos);
 }
 
 TEST(Api, ABallBuiltInCodeFallsAtGTimesT) {

@@ -51,6 +51,36 @@ TEST(SphereTable, AReorderThatMovesFewRowsKeepsEveryColumnWithItsEntity) {
   for (int i = 0; i < 100; ++i) EXPECT_EQ(w.spheres.row(e[i]), static_cast<std::uint32_t>(i));
 }
 
+// The header's promise: while the sphere count holds, a reorder leaves every column in its
+// buffer (the API's spans and the Python module's arrays view them across steps), on both of
+// permute()'s paths: all rows moving (a rotation) and few (one swap).
+TEST(SphereTable, AReorderKeepsEveryColumnWhereItIs) {
+  const TeamSize team(2);
+  World w;
+  w.enable_angular(true);
+  std::vector<Entity> e;
+  for (int i = 0; i < 100; ++i) e.push_back(test::add_ball(w, Vec3(float(i), 0, 0)));
+  const SphereTable& s = w.spheres;
+  auto addresses = [&] {
+    return std::vector<const void*>{s.position().data(), s.velocity().data(), s.angular_velocity().data(),
+                                    s.radius().data(),   s.inv_mass().data(), s.material().data(),
+                                    s.color().data(),    s.still_time().data(), s.asleep().data(),
+                                    s.entity_index().data()};
+  };
+  const std::vector<const void*> before = addresses();
+  std::vector<std::uint32_t> rotation(100), swap(100);
+  for (std::uint32_t k = 0; k < 100; ++k) rotation[k] = (k + 1) % 100;
+  std::iota(swap.begin(), swap.end(), 0u);
+  std::swap(swap[10], swap[90]);
+  for (int pass = 0; pass < 3; ++pass) {  // an odd count: a swap of buffers would show
+    w.spheres.permute(rotation);
+    EXPECT_EQ(addresses(), before) << "after rotation " << pass;
+    w.spheres.permute(swap);
+    EXPECT_EQ(addresses(), before) << "after swap " << pass;
+  }
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(s.position()[s.row(e[i])].x(), float(i));
+}
+
 TEST(SphereTable, ReordersBetweenAddsAndRemovesKeepEveryColumnWithItsEntity) {
   // permute() gathers into columns it keeps from the last reorder: they must take the table's
   // size each time, and leave nothing of the last reorder's rows behind.
