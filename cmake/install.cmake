@@ -5,7 +5,8 @@
 # Another project then writes find_package(ballpit 1.0 REQUIRED) and links ballpit::ballpit
 # (examples/hello_pit). Targets: ballpit::engine, ballpit::systems, ballpit::api, ballpit::ballpit
 # (all of them), ballpit::model-probe. The package is relocatable: every path in it is relative
-# to where its files lie.
+# to where its files lie. The Python module installs from python/CMakeLists.txt, to
+# P/lib/python3/dist-packages.
 include(CMakePackageConfigHelpers)
 
 set(BALLPIT_PACKAGE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/ballpit)

@@ -10,6 +10,7 @@ packages=(
   libbullet-dev
   clang libclang-rt-14-dev
   python3-matplotlib
+  python3-dev pybind11-dev python3-numpy python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,7 +1,8 @@
 #!/bin/sh
 # The installed package end to end (ctest -L install): installs this build into a staging prefix,
 # builds a copy of examples/hello_pit against it in a clean folder, runs it, and checks that the
-# example prints the state hash `ballpit run` prints for the same scene and steps.
+# example prints the state hash `ballpit run` prints for the same scene and steps; the installed
+# Python module, where there is one, does too.
 # Usage: install_package.sh BUILD_DIR SOURCE_DIR BALLPIT_EXECUTABLE WORK_DIR CXX_COMPILER
 # (the build's compiler: the example must use the OpenMP runtime the libraries were built for)
 set -eu
@@ -36,4 +37,15 @@ cli=$("$ballpit" run --scene pour --set populations.0.count=2000 --set steps=120
 echo "ballpit run: state_hash $cli"
 [ -n "$example" ] && [ "$example" = "$cli" ] || fail "hello_pit's state hash '$example' is not ballpit run's '$cli'" /dev/null
 grep -q '^escaped 0$' "$work/hello.txt" || fail "balls escaped the pit" "$work/hello.txt"
+# The Python module, where the build has one (python/CMakeLists.txt): installed under the
+# prefix, it imports from there alone and reaches the same state.
+module=$(ls "$work"/prefix/lib*/python3/dist-packages/ballpit.*.so 2> /dev/null | head -n 1)
+if [ -n "$module" ]; then
+  python=$(PYTHONPATH="$(dirname "$module")" /usr/bin/python3 -c 'import ballpit
+s = ballpit.Simulation.from_scene("pour", ["populations.0.count=2000"])
+s.step(120)
+print(ballpit.__file__, s.report()["state_hash_hex"])' 2> "$work/python.log") || fail "importing the installed Python module failed" "$work/python.log"
+  echo "python: $python"
+  [ "${python#"$module "}" = "$cli" ] || fail "the installed module's state hash '$python' is not ballpit run's '$cli'" /dev/null
+fi
 echo "install_package: the installed package builds hello_pit, which matches ballpit run"
