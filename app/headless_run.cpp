@@ -155,6 +155,7 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
 
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(o.steps));
+  double awake_sum = 0.0;  // spheres awake after each step, summed (outside the timing)
   auto started = std::chrono::steady_clock::now();
   auto last_report = started;
   for (int s = 0; s < o.steps; ++s) {
@@ -164,6 +165,10 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     auto t1 = std::chrono::steady_clock::now();
     step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     if (o.after_step) o.after_step(world);
+    if (world.solver.sleeping) {
+      auto asleep = world.spheres.asleep();
+      awake_sum += static_cast<double>(std::count(asleep.begin(), asleep.end(), std::uint8_t{0}));
+    }
     if (guard) {
       try {
         guard->after_step(world, scheduler);
@@ -201,6 +206,11 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     save_snapshot(world, o.save_path);
     report["saved"] = o.save_path;
     report["save_ms"] = round_to(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count(), 1);
+  }
+  if (world.solver.sleeping) {  // how much of the pit the steps moved (systems/sleeping.h)
+    report["awake_mean"] = round_to(step_ms.empty() ? 0.0 : awake_sum / static_cast<double>(step_ms.size()), 1);
+    auto asleep = world.spheres.asleep();
+    report["awake_final"] = std::count(asleep.begin(), asleep.end(), std::uint8_t{0});
   }
   if (substep_control) {
     // What the tolerance achieved (worst overlap the controller measured after a step) and what

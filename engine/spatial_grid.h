@@ -23,6 +23,7 @@ struct SpatialGrid {
   Column<std::uint32_t> cell_start;
   Column<std::uint32_t> cell_of_row;        // cell key of each (sorted) row
   std::vector<std::uint32_t> new_to_old;    // the last rebuild's permutation
+  bool kept_order = false;                  // the last step skipped the rebuild: new_to_old is the identity
 
   std::size_t cell_count() const { return static_cast<std::size_t>(nx) * ny * nz; }
   std::uint32_t key(int x, int y, int z) const {

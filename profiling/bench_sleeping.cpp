@@ -1,20 +1,39 @@
-// The sleep update alone, in its two regimes, and the wake check.
-// - sleeping (awake pit): sleep_time is out of reach, so no sphere is ever ready to sleep: the
-//   wake requests and the stillness clock of every sphere, and the early out that skips the
-//   piles. The cost the system adds to a step while the pit is still moving.
-// - sleeping_piles (a still pit falling asleep): every sphere has been still for sleep_time,
-//   so each call builds the piles (a union-find over every loaded pair of the warm-start cache)
-//   and puts the whole pit to sleep; the loop then wakes it again by clearing the sleep flags
-//   (a memset, timed with it). The cost of a step in which piles may change: one is ready to
-//   sleep, or something moves while something sleeps. A pit asleep whole skips the piles.
+// Sleeping by region (systems/sleeping.h), in its regimes, and what a pit asleep costs a step.
+// - sleeping (awake pit): sleep_time is out of reach, so no region is ever ready to sleep: the
+//   stillness clock of every sphere and the restless marks. What the system adds to a step
+//   while the pit moves.
+// - sleeping_regions (a still pit falling asleep): every sphere has been still for sleep_time,
+//   so each call checks every contact's depth (a region sleeps only within the bound) and puts
+//   the regions within it to sleep (asleep_fraction says how much); the loop then wakes it
+//   again by clearing the sleep flags (a memset, timed with it). The cost of a step in which
+//   regions fall asleep.
+// - wake (a pit asleep but for one sphere in a hundred, moving at 1 m/s): the regions they may
+//   reach are marked and their sleepers woken; the loop puts the pit back to sleep first (a
+//   memset and the movers' flags, timed with it). The cost of a step in which regions wake.
+// - asleep_step: a whole physics step (wake, grid, narrowphase, solver, sleeping) of a pit
+//   asleep whole: what a settled pit costs with nothing moving.
 #include <algorithm>
 #include <limits>
 
+#include "engine/fixed_step_loop.h"
+#include "engine/scheduler.h"
 #include "profiling/bench_common.h"
+#include "systems/physics_pipeline.h"
 #include "systems/sleeping.h"
 
 namespace ballpit::profiling {
 namespace {
+
+void hold_still(World& world) {
+  auto v = world.spheres.mut_velocity();
+  std::fill(v.begin(), v.end(), Vec3::Zero());
+  if (world.spheres.has_angular()) {
+    auto w = world.spheres.mut_angular_velocity();
+    std::fill(w.begin(), w.end(), Vec3::Zero());
+  }
+  auto still = world.spheres.mut_still_time();
+  std::fill(still.begin(), still.end(), world.solver.sleep_time);
+}
 
 [[maybe_unused]] const bool kSleeping = register_system("sleeping", [](benchmark::State& state, World& world, std::size_t n) {
   world.solver.sleeping = true;
@@ -23,36 +42,49 @@ namespace {
   state.counters["contacts"] = static_cast<double>(contact_count(world));
 });
 
-[[maybe_unused]] const bool kSleepingPiles =
-    register_system("sleeping_piles", [](benchmark::State& state, World& world, std::size_t n) {
+[[maybe_unused]] const bool kSleepingRegions =
+    register_system("sleeping_regions", [](benchmark::State& state, World& world, std::size_t n) {
       world.solver.sleeping = true;
-      // At rest (the lattice's settling leaves it creeping faster than sleep_speed) and still
-      // for long enough.
-      auto v = world.spheres.mut_velocity();
-      std::fill(v.begin(), v.end(), Vec3::Zero());
-      if (world.spheres.has_angular()) {
-        auto w = world.spheres.mut_angular_velocity();
-        std::fill(w.begin(), w.end(), Vec3::Zero());
-      }
-      auto still = world.spheres.mut_still_time();
-      std::fill(still.begin(), still.end(), world.solver.sleep_time);
+      hold_still(world);  // the lattice's settling leaves it creeping faster than sleep_speed
       auto asleep = world.spheres.mut_asleep();
       timed_loop(state, n, [&] {
         std::fill(asleep.begin(), asleep.end(), std::uint8_t{0});
         update_sleep(world);
       });
-      if (static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{1})) != n)
-        state.SkipWithError("the pit did not fall asleep whole");
-      state.counters["cache_entries"] = static_cast<double>(world.contacts.warm.size());
+      const auto sleepers = static_cast<double>(std::count(asleep.begin(), asleep.end(), std::uint8_t{1}));
+      state.counters["asleep_fraction"] = sleepers / static_cast<double>(n);
     });
 
-// The wake check alone on an awake pit: every contact is looked at and nothing wakes (no
-// sphere sleeps), the cost the wake system adds to each step of a pit that is moving.
 [[maybe_unused]] const bool kWake = register_system("wake", [](benchmark::State& state, World& world, std::size_t n) {
   world.solver.sleeping = true;
-  timed_loop(state, n, [&] { wake_approached(world); });
-  state.counters["contacts"] = static_cast<double>(contact_count(world));
+  hold_still(world);
+  auto asleep = world.spheres.mut_asleep();
+  auto v = world.spheres.mut_velocity();
+  std::size_t woken = 0;
+  timed_loop(state, n, [&] {
+    std::fill(asleep.begin(), asleep.end(), std::uint8_t{1});
+    for (std::size_t i = 0; i < n; i += 100) {
+      asleep[i] = 0;
+      v[i] = Vec3(1.0f, 0.0f, 0.0f);
+    }
+    woken = wake_approached(world);
+  });
+  state.counters["woken_fraction"] = static_cast<double>(woken) / static_cast<double>(n);
 });
+
+[[maybe_unused]] const bool kAsleepStep =
+    register_system("asleep_step", [](benchmark::State& state, World& world, std::size_t n) {
+      world.solver.sleeping = true;
+      hold_still(world);
+      auto asleep = world.spheres.mut_asleep();
+      std::fill(asleep.begin(), asleep.end(), std::uint8_t{1});
+      Scheduler scheduler(omp_get_max_threads());
+      add_physics_systems(scheduler, world);
+      FixedStepLoop loop(world, scheduler);
+      timed_loop(state, n, [&] { loop.step(); });
+      if (static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{1})) != n)
+        state.SkipWithError("something woke");
+    });
 
 }  // namespace
 }  // namespace ballpit::profiling

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "engine/thread_share.h"
 #include "engine/world.h"
+#include "systems/sleep_regions.h"
 
 namespace ballpit {
 
@@ -149,6 +151,19 @@ Access GridSystem::access() const {
 
 void GridSystem::run(World& world) {
   const TeamSize team(team_for(world.spheres.size(), kRowsPerThread));
+  // A pit asleep whole has not moved since it fell asleep: its rows keep their order, and
+  // nothing searches the grid this step (systems/sleeping.h). The identity permutation tells
+  // the narrowphase and the solver that last step's rows are this step's.
+  if (all_asleep(world.spheres.asleep())) {
+    std::vector<std::uint32_t>& order = world.grid.new_to_old;
+    if (order.size() != world.spheres.size() || !world.grid.kept_order) {
+      order.resize(world.spheres.size());
+      std::iota(order.begin(), order.end(), 0u);
+    }
+    world.grid.kept_order = true;
+    return;
+  }
+  world.grid.kept_order = false;
   build_grid(world.grid, world.spheres.position(), world.spheres.radius(), scratch_);
   world.spheres.permute(world.grid.new_to_old);
 }

@@ -14,6 +14,7 @@
 
 #include "engine/thread_share.h"
 #include "engine/world.h"
+#include "systems/sleep_regions.h"
 
 // The candidate and plane tests run four rows at a time in SSE2 where the target has it (every
 // x86-64), one at a time otherwise or with BALLPIT_NARROWPHASE_SCALAR; both give the same bits.
@@ -34,6 +35,7 @@ constexpr PerThread kRowsPerThread{.spinning = 1024, .passive = 2048};
 // NarrowphaseScratch::flags bits.
 constexpr std::uint32_t kFastRow = 1;    // margin beyond what a one-cell search covers
 constexpr std::uint32_t kAsleepRow = 2;
+constexpr std::uint32_t kAwakeRow = 4;   // so that a search can skip every awake partner
 
 // Bit of a partner in a row's summary of its warm-start entries (NarrowphaseScratch::cached):
 // Fibonacci hashing of the partner to one of 32 bits.
@@ -148,6 +150,7 @@ struct SlabSearch {
   const ContactSet& previous;                  // warm-start cache of the last step
   std::span<const std::uint32_t> new_to_old;
   std::uint8_t* piled;                         // ContactSet::piled of this step
+  bool sleepers;                               // some row sleeps: awake rows look back for them
 
   // A pair that carried load marks both its rows as piled. The partner may lie in the next slab,
   // whose rows another thread marks too, so the mark is an atomic store (on x86 a plain one).
@@ -257,15 +260,15 @@ struct SlabSearch {
     return (fast(i) ? 0u : kFastRow) | (scratch.flags[i] & kAsleepRow);
   }
 
-  // Sphere i's side of the candidate test, in every lane.
+  // Sphere i's side of the candidate test, in every lane, passing no row whose flags meet `skip`.
 #if BALLPIT_NARROWPHASE_SSE
   struct Probe {
     __m128 x, y, z, r, m;
     __m128i skip;  // skipped_partners(i)
   };
-  Probe probe(const Columns& c, std::uint32_t i) const {
+  Probe probe(const Columns& c, std::uint32_t i, std::uint32_t skip) const {
     return {_mm_set1_ps(c.x[i]),      _mm_set1_ps(c.y[i]),      _mm_set1_ps(c.z[i]),
-            _mm_set1_ps(c.radius[i]), _mm_set1_ps(c.margin[i]), _mm_set1_epi32(static_cast<int>(skipped_partners(i)))};
+            _mm_set1_ps(c.radius[i]), _mm_set1_ps(c.margin[i]), _mm_set1_epi32(static_cast<int>(skip))};
   }
 
   // Bit k set: row j + k is not skipped and touches sphere i soon. The arithmetic is
@@ -287,7 +290,7 @@ struct SlabSearch {
   struct Probe {
     std::uint32_t i, skip;
   };
-  Probe probe(const Columns&, std::uint32_t i) const { return {i, skipped_partners(i)}; }
+  Probe probe(const Columns&, std::uint32_t i, std::uint32_t skip) const { return {i, skip}; }
   unsigned hits(const Columns&, const Probe& p, std::uint32_t j) const {
     unsigned passed = 0;
     for (std::uint32_t k = 0; k < kLanes && j + k < x.size(); ++k)
@@ -328,7 +331,7 @@ struct SlabSearch {
   // Cells (cx, y0..y1, cz), y clipped to the grid: consecutive keys, so one row range, in the
   // order the cells one by one would give them. Empty outside the grid.
   RowRange column(int cx, int y0, int y1, int cz) const {
-    if (cx >= grid.nx || cz < 0 || cz >= grid.nz) return {};
+    if (cx < 0 || cx >= grid.nx || cz < 0 || cz >= grid.nz) return {};
     y0 = std::max(y0, 0);
     y1 = std::min(y1, grid.ny - 1);
     if (y0 > y1) return {};
@@ -351,16 +354,36 @@ struct SlabSearch {
     for (int k = 1; k < 5; ++k) candidates += forward[k].end - forward[k].begin;
     if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
     for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
+      if (scratch.flags[i] & kAsleepRow) continue;  // an awake partner finds the pair
       if (fast(i)) {
         wide_pairs(c, i, cx, cy, cz, slab, passed, out);
         continue;
       }
-      const Probe p = probe(c, i);
+      const Probe p = probe(c, i, skipped_partners(i));
       // The own cell's rows up to i belong to pairs that earlier rows own.
       std::uint32_t* end = gather(c, p, {i + 1, forward[0].end}, passed.data());
       for (int k = 1; k < 5; ++k) end = gather(c, p, forward[k], end);
       emit(generator(i), passed.data(), end, out);
+      if (sleepers) sleeping_pairs(c, i, cx, cy, cz, slab, passed, out);
     }
+  }
+
+  // A sleeper owns no pair, so the slow awake sphere i also owns its pairs with the sleepers of
+  // the backward half of its neighbourhood (the mirror of cell_pairs' forward half: own cell's
+  // rows before i, and cells of smaller key). Those lie in this slab or the one before, so a
+  // pair with the one before goes to the serial list (add_pair).
+  void sleeping_pairs(const Columns& c, std::uint32_t i, int cx, int cy, int cz, int slab,
+                      std::vector<std::uint32_t>& passed, SlabContacts& out) const {
+    const RowRange backward[5] = {column(cx - 1, cy - 1, cy + 1, cz - 1), column(cx - 1, cy - 1, cy + 1, cz),
+                                  column(cx - 1, cy - 1, cy + 1, cz + 1), column(cx, cy - 1, cy + 1, cz - 1),
+                                  {column(cx, cy - 1, cy, cz).begin, i}};
+    std::size_t candidates = 0;
+    for (const RowRange& rows : backward) candidates += rows.end - rows.begin;
+    if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
+    const Probe p = probe(c, i, kAwakeRow);
+    std::uint32_t* end = passed.data();
+    for (const RowRange& rows : backward) end = gather(c, p, rows, end);
+    for (const std::uint32_t* j = passed.data(); j < end; ++j) add_pair(i, *j, slab, out);
   }
 
   // A fast sphere searches every cell its reach may touch, all around, with the slow spheres'
@@ -379,7 +402,7 @@ struct SlabSearch {
     int x0 = std::max(cx - span, 0), x1 = std::min(cx + span, grid.nx - 1);
     int z0 = std::max(cz - span, 0), z1 = std::min(cz + span, grid.nz - 1);
     int y0 = std::max(cy - span, 0), y1 = std::min(cy + span, grid.ny - 1);
-    const Probe p = probe(c, i);
+    const Probe p = probe(c, i, skipped_partners(i));
     for (int ax = x0; ax <= x1; ++ax)
       for (int az = z0; az <= z1; ++az) {
         const RowRange rows = column(ax, y0, y1, az);
@@ -481,6 +504,14 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   // fresh cache at its end.
   if (contacts.slabs.size() != static_cast<std::size_t>(slabs)) contacts.slabs.resize(slabs);
   contacts.piled.assign(n, 0);
+  if (all_asleep(asleep)) {  // no sphere moves: nothing to find (systems/sleeping.h)
+    for (SlabContacts& slab : contacts.slabs) {
+      slab.pairs.clear();
+      slab.statics.clear();
+      slab.serial.clear();
+    }
+    return;
+  }
   SlabSearch search{grid,
                     x,
                     r,
@@ -491,7 +522,8 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     mc,
                     contacts,
                     grid.new_to_old,
-                    contacts.piled.data()};
+                    contacts.piled.data(),
+                    any_asleep(asleep)};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
 
   // Summaries of last step's cache entries, made in the cache's own (old row) order so the
@@ -522,7 +554,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       scratch.z[i] = x[i].z();
       scratch.radius[i] = r[i];
       scratch.margin[i] = m;
-      scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : 0u);
+      scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : kAwakeRow);
       const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
       scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
     }  // and the loop's barrier
@@ -542,14 +574,15 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
         search.grid_pairs(s, out);
       }
       for (std::uint32_t i = begin; i < end; ++i) {
+        // A sleeper is held where it fell asleep: its floor and walls are not solved, and keep
+        // their impulses in the cache for when it wakes (systems/solver.cpp); a collider that
+        // moves at it wakes it first (systems/sleeping.h).
+        if (asleep[i]) continue;
         // Copies: the lists' stores would otherwise force a reload per plane.
         const Vec3 xi = x[i];
-        // The row's pair margin, made above from the same speed (speculative_margin); a sleeper
-        // keeps the minimum against everything.
-        const float ri = r[i], m = scratch.margin[i] + (asleep[i] ? 0.0f : static_extra);
+        // The row's pair margin, made above from the same speed (speculative_margin).
+        const float ri = r[i], m = scratch.margin[i] + static_extra;
         const Material& mat = pit_material[search.material[i]];
-        // Sleepers get their planes and colliders too: the wake system may wake them before
-        // the solver runs, and a woken ball must still have its floor.
         for (unsigned near = pit_planes.near(xi, ri, m); near; near &= near - 1) {
           const int p = std::countr_zero(near);
           if (!pit.plane_applies(p, xi)) continue;

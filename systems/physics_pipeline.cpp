@@ -15,9 +15,9 @@ void add_physics_systems(Scheduler& scheduler, const World& world, const Physics
     scheduler.emplace<IntegrateSystem>();
     return;
   }
+  if (world.solver.sleeping) scheduler.emplace<WakeSystem>();
   scheduler.emplace<GridSystem>();
   scheduler.emplace<NarrowphaseSystem>();
-  if (world.solver.sleeping) scheduler.emplace<WakeSystem>();
   scheduler.emplace<SolverSystem>();
   if (world.solver.sleeping) scheduler.emplace<SleepSystem>();
 }

@@ -1,4 +1,4 @@
-// The physics step as systems, added in pipeline order: grid, narrowphase, wake, solver
+// The physics step as systems, added in pipeline order: wake, grid, narrowphase, solver
 // (whose substeps integrate), sleeping. The scheduler derives the dependencies from each system's
 // declared access; this list only says which systems a world needs: a world without
 // collisions gets a bare integrator, a world without sleeping no sleep system.

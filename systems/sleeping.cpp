@@ -1,5 +1,6 @@
 #include "systems/sleeping.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <span>
@@ -7,215 +8,212 @@
 
 #include "engine/thread_share.h"
 #include "engine/world.h"
+#include "systems/sleep_regions.h"
 
 namespace ballpit {
 
 namespace {
 
-// Rows (the sleep update) and contacts (the wake check) worth a thread of their own. Both loops
-// spend a few nanoseconds an item, and with passive waits a second thread costs tens of
-// microseconds to wake (bench_sleeping, packed pits, ms at 1 / 2 threads: the sleep update
-// 0.29 / 0.37 at 100k and 2.9 / 1.7 at 1M; the wake check 0.027 / 0.068 at 10k, 29k contacts,
-// and 0.39 / 0.27 at 100k, 298k contacts).
+// Rows worth a thread of their own: both passes spend a few nanoseconds a row, and with passive
+// waits a second thread costs tens of microseconds to wake (bench_sleeping: the sleep update
+// at 1 / 2 threads 0.29 / 0.37 ms at 100k and 2.9 / 1.7 at 1M).
 constexpr std::size_t kRowsPerThread = 131072;
-constexpr std::size_t kContactsPerThread = 65536;
 
-// Several slabs may wake the same sleeper at once; every write stores the same values, so the
-// outcome is deterministic, and atomic_ref keeps it free of data races.
-void wake_row(std::uint8_t& asleep, float& still) {
-  std::atomic_ref<std::uint8_t>(asleep).store(0, std::memory_order_relaxed);
-  std::atomic_ref<float>(still).store(0.0f, std::memory_order_relaxed);
+// A region sleeps only with every contact of its awake spheres within this overlap, as a
+// fraction of the smaller radius: the bound a settled pile holds without sleeping (shared/
+// SCENES.md, 1% r). Still but not yet pushed apart, a region would keep its overlap for as long
+// as it sleeps (the 1,000-ball pour slept with a pair 1.18% r deep).
+constexpr float kSleepOverlapFraction = 0.01f;
+
+// Several threads may mark one region; every write stores the same value, so the outcome is
+// deterministic, and atomic_ref keeps it free of data races.
+void set_mark(std::uint8_t& mark) { SleepRegions::mark(mark); }
+
+// The largest radius: the grid's, measured at its last rebuild, or the table's before the first.
+float largest_radius(const World& world) {
+  if (world.grid.max_radius > 0.0f) return world.grid.max_radius;
+  auto r = world.spheres.radius();
+  return r.empty() ? 0.0f : *std::max_element(r.begin(), r.end());
 }
 
-// Piles that rest on each other: spheres joined by a contact that carried load at the end of
-// this step (the warm-start cache, which keeps sleepers' pairs too), found by union-find. The
-// root of each row's pile is its lowest row, whatever order the links come in.
-class Piles {
- public:
-  explicit Piles(const World& world) : parent_(world.spheres.size()) {
-    for (std::uint32_t i = 0; i < parent_.size(); ++i) parent_[i] = i;
-    const ContactSet& cs = world.contacts;
-    if (cs.warm_begin.size() != parent_.size() + 1) return;  // no cache yet: every sphere alone
-    for (std::uint32_t i = 0; i < parent_.size(); ++i)
-      for (std::uint32_t k = cs.warm_begin[i]; k < cs.warm_begin[i + 1]; ++k) {
-        const std::uint32_t partner = cs.warm[k].partner;
-        if (partner & kTagMask) continue;  // planes and colliders join nothing
-        const std::uint32_t j = world.spheres.row_of_index(partner);
-        if (j != SphereTable::kNoRow) join(i, j);
-      }
-    for (std::uint32_t i = 0; i < parent_.size(); ++i) parent_[i] = root(i);
-  }
+SleepRegions regions_of(const World& world) { return {world.pit, world.gravity(), largest_radius(world)}; }
 
-  std::uint32_t of(std::uint32_t row) const { return parent_[row]; }
-
- private:
-  std::uint32_t root(std::uint32_t i) {
-    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
-    return i;
-  }
-  void join(std::uint32_t a, std::uint32_t b) {
-    a = root(a);
-    b = root(b);
-    if (a < b) parent_[b] = a;
-    else if (b < a) parent_[a] = b;
-  }
-
-  std::vector<std::uint32_t> parent_;
-};
-
-// What each pile's awake members say, by pile root: kRestless, one has not been still for
-// sleep_time; kMoving, one moved this step or was just woken (its still time is 0).
-constexpr std::uint8_t kRestless = 1, kMoving = 2;
-
-std::vector<std::uint8_t> pile_states(const Piles& piles, std::span<const std::uint8_t> asleep,
-                                      std::span<const float> still, float sleep_time) {
-  std::vector<std::uint8_t> state(asleep.size(), 0);
-  for (std::uint32_t i = 0; i < asleep.size(); ++i) {
-    if (asleep[i]) continue;
-    std::uint8_t& pile = state[piles.of(i)];
-    if (still[i] < sleep_time) pile |= kRestless;
-    if (still[i] == 0.0f) pile |= kMoving;
-  }
-  return state;
-}
-
-}  // namespace
-
-Access WakeSystem::access() const {
-  // What waking reads, and what the narrowphase reads and writes to find the contacts again.
-  Access a = NarrowphaseSystem().access();
-  a.writes.add(ColumnId::SphereSleep);
-  return a;
-}
-
-void WakeSystem::run(World& world) {
-  if (wake_approached(world)) find_contacts(world, scratch_);
-}
-
-Access SleepSystem::access() const {
-  Access a;
-  a.reads = {ColumnId::SphereRadius, ColumnId::SphereRows, ColumnId::Contacts};
-  a.writes = {ColumnId::SphereSleep, ColumnId::SphereVelocity, ColumnId::SphereAngularVelocity};
-  return a;
-}
-
-bool wake_approached(World& world) {
-  const ContactSet& found = world.contacts;
-  const TeamSize team(team_for(found.count(), kContactsPerThread));
-  SphereTable& spheres = world.spheres;
-  auto asleep = spheres.mut_asleep();
-  auto still = spheres.mut_still_time();
+// Marks every region that a moving awake sphere or a moving joint collider may reach within the
+// coming step: the box of the mover's travel, grown by its radius, the largest sphere's and the
+// drop under gravity (a sleeper's centre in a marked region is all a touch needs). A sphere
+// counts as moving above wake_speed, as the solver's blows do.
+void mark_motion(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
+  const SphereTable& spheres = world.spheres;
+  auto x = spheres.position();
   auto v = spheres.velocity();
-  auto cva = world.colliders.velocity_a();
-  auto cvb = world.colliders.velocity_b();
+  auto r = spheres.radius();
+  auto asleep = spheres.asleep();
+  const float dt = world.step();
   const float wake2 = world.solver.wake_speed * world.solver.wake_speed;
-  std::vector<SlabContacts>& slabs = world.contacts.slabs;
-  const int count = static_cast<int>(slabs.size());
-  std::atomic<bool> any_woken = false;
-  auto wake = [&](std::uint32_t row) {
-    wake_row(asleep[row], still[row]);
-    any_woken.store(true, std::memory_order_relaxed);
-  };
+  const float reach = largest_radius(world) + world.gravity().norm() * dt * dt;
+  const std::int64_t n = static_cast<std::int64_t>(spheres.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    if (asleep[i] || !(v[i].squaredNorm() > wake2)) continue;  // NaN speeds are the guard's
+    const Vec3 grow = Vec3::Constant(r[i] + reach + v[i].norm() * dt);
+    regions.mark_box(x[i] - grow, x[i] + grow, marks);
+  }
+  const ColliderTable& colliders = world.colliders;
+  auto ca = colliders.a();
+  auto cb = colliders.b();
+  auto cr = colliders.radius();
+  auto cva = colliders.velocity_a();
+  auto cvb = colliders.velocity_b();
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    const float speed = std::max(cva[c].norm(), cvb[c].norm());
+    if (!(speed > world.solver.wake_speed)) continue;
+    const Vec3 grow = Vec3::Constant(cr[c] + reach + speed * dt);
+    regions.mark_box(ca[c].cwiseMin(cb[c]) - grow, ca[c].cwiseMax(cb[c]) + grow, marks);
+  }
+}
 
-  auto check = [&](const Contact& c) {
-    if (c.b & kColliderTag) {
-      std::uint32_t k = c.b & ~kTagMask;
-      if (k < cva.size() && asleep[c.a] && std::max(cva[k].squaredNorm(), cvb[k].squaredNorm()) > wake2)
-        wake(c.a);
-      return;
+// Marks the regions of both spheres of every contact deeper than kSleepOverlapFraction. Planes
+// count; colliders do not (a limb pressing on a ball keeps its region awake by its motion,
+// mark_motion).
+void mark_deep_contacts(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
+  auto x = world.spheres.position();
+  auto r = world.spheres.radius();
+  const Pit& pit = world.pit;
+  auto deep = [&](const Contact& c) {
+    if (c.b & kColliderTag) return false;
+    if (c.b & kPlaneTag) {
+      const int p = static_cast<int>(c.b & ~kTagMask);
+      return pit.plane_normal(p).dot(x[c.a]) - pit.plane_offset(p) < (1.0f - kSleepOverlapFraction) * r[c.a];
     }
-    if (c.b & kTagMask) return;
-    const bool sa = asleep[c.a], sb = asleep[c.b];
-    if (sa == sb) return;
-    std::uint32_t sleeper = sa ? c.a : c.b, mover = sa ? c.b : c.a;
-    if (v[mover].squaredNorm() > wake2) wake(sleeper);
+    const float reach = r[c.a] + r[c.b] - kSleepOverlapFraction * std::min(r[c.a], r[c.b]);
+    return (x[c.a] - x[c.b]).squaredNorm() < reach * reach;
   };
-#pragma omp parallel for schedule(dynamic, 1)
+  auto check = [&](const Contact& c) {
+    if (!deep(c)) return;
+    set_mark(marks[regions.of(x[c.a])]);
+    if (!(c.b & kTagMask)) set_mark(marks[regions.of(x[c.b])]);
+  };
+  const std::vector<SlabContacts>& slabs = world.contacts.slabs;
+  const int count = static_cast<int>(slabs.size());
+#pragma omp parallel for schedule(dynamic, 4)
   for (int k = 0; k < count; ++k) {
     for (const Contact& c : slabs[k].pairs) check(c);
     for (const Contact& c : slabs[k].statics) check(c);
     for (const Contact& c : slabs[k].serial) check(c);
   }
-  if (!any_woken) return false;
-  // The pile of a woken sphere (or of one that moved) wakes with it, before the step: woken
-  // alone, the sphere would be driven into neighbours that cannot yield (a ball dropped 0.5 m on
-  // a sleeping pile of 1,000 left it overlapping by 0.5 r), and they would wake a few at a time.
-  const Piles piles(world);
-  const std::vector<std::uint8_t> state = pile_states(piles, asleep, still, world.solver.sleep_time);
+}
+
+// Wakes the sleepers of the marked regions; returns how many.
+std::size_t wake_marked(World& world, const SleepRegions& regions, const std::vector<std::uint8_t>& marks) {
+  SphereTable& spheres = world.spheres;
+  auto x = spheres.position();
+  auto asleep = spheres.mut_asleep();
+  auto still = spheres.mut_still_time();
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
-#pragma omp parallel for schedule(static)
+  std::size_t woken = 0;
+#pragma omp parallel for schedule(static) reduction(+ : woken)
   for (std::int64_t i = 0; i < n; ++i)
-    if (asleep[i] && (state[piles.of(static_cast<std::uint32_t>(i))] & kMoving)) wake_row(asleep[i], still[i]);
-  return true;
+    if (asleep[i] && marks[regions.of(x[i])]) {
+      asleep[i] = 0;
+      still[i] = 0.0f;
+      ++woken;
+    }
+  return woken;
+}
+
+}  // namespace
+
+Access WakeSystem::access() const {
+  Access a;
+  a.reads = {ColumnId::SpherePosition, ColumnId::SphereVelocity, ColumnId::SphereRadius,
+             ColumnId::Colliders,      ColumnId::Gravity,        ColumnId::Grid};
+  a.writes = {ColumnId::SphereSleep};
+  return a;
+}
+
+Access SleepSystem::access() const {
+  Access a;
+  a.reads = {ColumnId::SpherePosition, ColumnId::SphereRadius, ColumnId::Colliders,
+             ColumnId::Gravity,        ColumnId::Grid,         ColumnId::Contacts};
+  a.writes = {ColumnId::SphereSleep, ColumnId::SphereVelocity, ColumnId::SphereAngularVelocity};
+  return a;
+}
+
+std::size_t wake_approached(World& world) {
+  const TeamSize team(team_for(world.spheres.size(), kRowsPerThread));
+  if (!any_asleep(world.spheres.asleep())) return 0;
+  const SleepRegions regions = regions_of(world);
+  std::vector<std::uint8_t> marks(regions.size(), 0);
+  mark_motion(world, regions, marks);
+  if (std::find(marks.begin(), marks.end(), std::uint8_t{1}) == marks.end()) return 0;
+  return wake_marked(world, regions, marks);
 }
 
 void update_sleep(World& world) {
   const TeamSize team(team_for(world.spheres.size(), kRowsPerThread));
   SphereTable& spheres = world.spheres;
   const SolverSettings& s = world.solver;
+  const SleepRegions regions = regions_of(world);
+  auto x = spheres.position();
+
+  // A sleeper the solver struck harder than wake_speed wakes with its region (the step treated
+  // it as fixed; the next one moves it).
+  const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
+  if (requests.size() == spheres.size() && std::find(requests.begin(), requests.end(), 1) != requests.end()) {
+    std::vector<std::uint8_t> struck(regions.size(), 0);
+    for (std::size_t i = 0; i < requests.size(); ++i)
+      if (requests[i]) struck[regions.of(x[i])] = 1;
+    wake_marked(world, regions, struck);
+  }
+  if (all_asleep(spheres.asleep())) return;  // a pit asleep whole: nothing to count
+
   auto asleep = spheres.mut_asleep();
   auto still = spheres.mut_still_time();
   auto v = spheres.mut_velocity();
   auto r = spheres.radius();
   const bool angular = spheres.has_angular();
   auto w = angular ? spheres.mut_angular_velocity() : std::span<Vec3>{};
-
-  auto& requests = world.contacts.wake_requests;
-  if (requests.size() == spheres.size()) {
-    const std::int64_t rows = static_cast<std::int64_t>(requests.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < rows; ++i)
-      if (requests[i]) {
-        asleep[i] = 0;
-        still[i] = 0.0f;
-      }
-  }
-
   const float dt = world.step();
   const float sleep2 = s.sleep_speed * s.sleep_speed;
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
-  // The clock, and what it says about whether any pile may change (below).
-  bool ready = false, moving = false, sleeper = false;
-#pragma omp parallel for schedule(static) reduction(|| : ready, moving, sleeper)
+
+  // The clock first: the regions matter only once a sphere has been still for sleep_time.
+  bool ready = false;
+#pragma omp parallel for schedule(static) reduction(|| : ready)
   for (std::int64_t i = 0; i < n; ++i) {
-    if (asleep[i]) {
-      sleeper = true;
-      continue;
-    }
-    float spin = angular ? w[i].squaredNorm() * r[i] * r[i] : 0.0f;
+    if (asleep[i]) continue;
+    const float spin = angular ? w[i].squaredNorm() * r[i] * r[i] : 0.0f;
     if (v[i].squaredNorm() < sleep2 && spin < sleep2) still[i] += dt;
     else still[i] = 0.0f;
     ready = ready || still[i] >= s.sleep_time;
-    moving = moving || still[i] == 0.0f;
   }
+  if (!ready) return;
 
-  // A pile sleeps and wakes as one. A sphere asleep alone in a pile is a fixed body inside it:
-  // it stops passing on the weight it carries, and the spheres around it are warm-started with
-  // loads it no longer shares. A settled 10k pour slept that way part by part and never came
-  // to rest again (after 1,200 steps 0.25 J, top speed 0.56 m/s and overlaps of 0.12 r, against
-  // 3e-6 J, 0.002 m/s and 0.0005 r with sleeping off); woken parts woke their neighbours in
-  // waves. So a pile sleeps once every member has been still for sleep_time, and wakes whole
-  // when a member moves (or is woken). A slow member that joins a sleeping pile, a ball that
-  // comes to lean on it, does not wake it: it sleeps when its own still time is up.
-  // The piles (a union-find over every loaded pair: 0.27 ms a step for a settled 10k pile,
-  // bench_sleeping) are built only when one may change: a pile falls asleep only if an awake
-  // member is ready to (still for sleep_time), and wakes only if a member is awake and moving
-  // (its still time is 0) while some sphere sleeps. A pit asleep whole skips them.
-  if (!ready && !(sleeper && moving)) return;
-  const Piles piles(world);
-  const std::vector<std::uint8_t> pile_state = pile_states(piles, asleep, still, s.sleep_time);
+  // Restless regions: those with an awake sphere not yet still for sleep_time, those that
+  // motion may reach in the next step (which would only wake them again), and those with a
+  // contact deeper than the bound. Rows come sorted by grid cell, so runs of rows share a
+  // region: each thread marks a region once per run.
+  std::vector<std::uint8_t> restless(regions.size(), 0);
+  mark_motion(world, regions, restless);
+#pragma omp parallel
+  {
+    std::uint32_t last = ~0u;
+#pragma omp for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (asleep[i] || still[i] >= s.sleep_time) continue;
+      const std::uint32_t region = regions.of(x[i]);
+      if (region != last) set_mark(restless[region]);
+      last = region;
+    }
+  }
+  mark_deep_contacts(world, regions, restless);
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const std::uint8_t state = pile_state[piles.of(static_cast<std::uint32_t>(i))];
-    if (!asleep[i] && !(state & kRestless)) {
+  for (std::int64_t i = 0; i < n; ++i)
+    if (!asleep[i] && !restless[regions.of(x[i])]) {
       asleep[i] = 1;
       v[i].setZero();
       if (angular) w[i].setZero();
-    } else if (asleep[i] && (state & kMoving)) {
-      asleep[i] = 0;  // its pile woke
-      still[i] = 0.0f;
     }
-  }
 }
 
 }  // namespace ballpit

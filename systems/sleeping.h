@@ -1,43 +1,46 @@
-// Sleeping: a pile of spheres (spheres joined by contacts that carry load) that has stayed
-// slower than sleep_speed for sleep_time sleeps as one: its spheres stop integrating, act as
-// fixed bodies for awake spheres, and their pairs with each other are no longer generated or
-// solved (the warm-start cache keeps those pairs' impulses, systems/solver.cpp). The pile wakes
-// as one when a member moves, when an awake sphere or a joint collider touches a member faster
-// than wake_speed, or when gravity changes (World::set_gravity). A lone sphere is a pile of one.
-// Reads: velocities, radii, contacts (and the cache), colliders, rows; when a pile wakes, what
-// the narrowphase reads. Writes: sleep state, velocities; contacts when a pile wakes.
-// Decision: sleep is per pile, not per sphere. A sphere asleep alone inside a pile is a fixed
-// body there: it stops passing on the weight it carries, and its neighbours are warm-started
-// with loads it no longer shares. Per-sphere sleep kept a settled 10k pour boiling for good
-// (systems/sleeping.cpp). The cost: a pile with one moving ball stays awake whole.
+// Sleeping, by region: the pit is cut into columns along gravity (systems/sleep_regions.h), and
+// the spheres of a column that have all stayed slower than sleep_speed for sleep_time fall
+// asleep together, whatever the columns around them do. A sleeper stops integrating and is a
+// fixed body for the awake spheres and limbs that meet it; its pairs with other sleepers, its
+// floor and its walls are neither found nor solved, and the warm-start cache keeps their
+// impulses (systems/solver.cpp), so it wakes carrying the load it carried.
+// A region wakes, before the step that could reach it, when a moving sphere (faster than
+// wake_speed) or a moving joint collider comes within a step's travel of it; after a step, when
+// the solver struck one of its sleepers harder than wake_speed (a ball it held up moved away,
+// or landed on it); and everywhere when gravity changes (World::set_gravity). Waking is by
+// region, so it spreads only as far as motion does.
+// Reads: positions, velocities, radii, colliders, gravity; the solver's wake requests.
+// Writes: sleep state; velocities (zeroed when a sphere falls asleep).
+// Decision: regions, not piles nor single spheres. A pile in a pit is the whole pit, so a pile
+// that sleeps as one never sleeps while anything moves (issue 39: the 40,000 balls of the play
+// scene cost the same with sleeping on). A sphere asleep alone inside an awake pile is a fixed
+// body there that stops passing on the weight it carries, and a settled 10k pour slept and woke
+// that way part by part for good. A column sleeps with the weight it carries inside it.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "engine/system.h"
-#include "systems/narrowphase.h"
 
 namespace ballpit {
 
 class World;
 
-// Wakes sleepers approached fast (from this step's contacts, found by the narrowphase), and
-// the piles of those and of sleepers' neighbours that moved. Returns whether any sleeper woke.
-bool wake_approached(World& world);
-// Applies the solver's wake requests, then counts still time and puts still spheres to sleep.
+// Wakes every sleeper in a region that moving spheres or moving joint colliders may reach in
+// the coming step. Returns the number of spheres it woke.
+std::size_t wake_approached(World& world);
+// Applies the solver's wake requests by region, counts still time, and puts each region whose
+// spheres are all still, and that no motion may reach, to sleep.
 void update_sleep(World& world);
 
-// Runs after the narrowphase, which lists no pair of two sleepers: when it wakes a pile, it
-// finds the step's contacts again, or the pile would be solved for this step with no contact
-// among its balls and fall freely for it (g dt: 0.16 m/s, and overlaps of 0.08 r three steps
-// later in a woken pile of 1,000). Steps that wake nothing cost no second search.
+// First in the step, before the grid: a region it wakes is searched and solved with the rest.
 class WakeSystem : public System {
  public:
   std::string_view name() const override { return "wake"; }
   Access access() const override;
-  void run(World& world) override;
+  void run(World& world) override { wake_approached(world); }
   bool data_parallel() const override { return true; }
-
- private:
-  NarrowphaseScratch scratch_;  // for the second search
 };
 
 class SleepSystem : public System {

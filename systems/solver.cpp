@@ -16,6 +16,7 @@
 #include "systems/collider_guard.h"
 #include "systems/contact_batches.h"
 #include "systems/integrate.h"
+#include "systems/sleep_regions.h"
 
 // One contact at a time (planes, colliders) runs the lane kernel at T = float, compiled for
 // the plain target like systems/batch_kernels_generic.cpp.
@@ -519,13 +520,12 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
     }
     for_each_loaded_contact(scratch.serial, f);  // rows of any slab: after the groups
   };
-  // Two sleepers' pair is neither found nor solved, so its entry would leave the cache in the
-  // first step both sleep: the sleeping pile would lose the links that make it one pile
-  // (systems/sleeping.cpp), and wake cold, with no impulse carrying its weight in the first
-  // substep and every contact unloaded, free to strike. So a sleeper keeps, as they were, last
-  // step's entries with partners that sleep too, and the pair picks them up when it wakes (a
-  // sleeping pile of 1,000 woken whole: 2e-5 J a step later). Planes and colliders are found
-  // for sleepers as for anyone.
+  // Two sleepers' pair is neither found nor solved, nor is a sleeper's floor, wall or collider,
+  // so their entries would leave the cache in the first step they sleep, and the region would
+  // wake cold, with no impulse carrying its weight in the first substep and every contact
+  // unloaded, free to strike. So a sleeper keeps, as they were, last step's entries with
+  // partners that sleep too and with planes and colliders, and the pair picks them up when it
+  // wakes (a sleeping pile of 1,000 woken whole: 2e-5 J a step later).
   const std::vector<std::uint32_t>& old_row = world.grid.new_to_old;
   const std::vector<std::uint32_t>& old_begin = scratch.previous_warm_begin;
   const std::vector<WarmStartEntry>& old_entries = scratch.previous_warm;
@@ -535,7 +535,10 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
     if (!asleep[i] || old_row[i] + 1 >= old_begin.size()) return;
     for (std::uint32_t k = old_begin[old_row[i]]; k < old_begin[old_row[i] + 1]; ++k) {
       const WarmStartEntry& e = old_entries[k];
-      if (e.partner & kTagMask) continue;
+      if (e.partner & kTagMask) {
+        f(e);
+        continue;
+      }
       const std::uint32_t j = spheres.row_of_index(e.partner);
       if (j != SphereTable::kNoRow && asleep[j]) f(e);
     }
@@ -586,6 +589,11 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   const int substeps = settings.substeps;
   const float h = world.step() / static_cast<float>(substeps);
   const std::size_t rows = spheres.size();
+  // A pit asleep whole does not move, and its cache stays as it fell asleep (systems/sleeping.h).
+  if (all_asleep(spheres.asleep())) {
+    world.contacts.wake_requests.clear();
+    return;
+  }
 
   load_and_pack(world, scratch);
   const bool sleepers = std::any_of(spheres.asleep().begin(), spheres.asleep().end(), [](std::uint8_t s) { return s != 0; });

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "engine/metrics.h"
 #include "engine/pour_scene.h"
+#include "engine/state_hash.h"
+#include "systems/joint_colliders.h"
 #include "tiny_world.h"
 
 using namespace ballpit;
@@ -39,8 +42,7 @@ TEST(Sleeping, ASleeperCostsNoContacts) {
   s.step(60);
   ASSERT_TRUE(asleep(s, a));
   ASSERT_TRUE(asleep(s, b));
-  EXPECT_EQ(s.world.contacts.pair_count(), 0u);  // sleeper pairs are not even listed
-  EXPECT_EQ(s.world.contacts.static_count(), 2u);  // their floors are (cheap), for waking
+  EXPECT_EQ(s.world.contacts.count(), 0u);  // sleepers' pairs and floors are not even listed
 }
 
 TEST(Sleeping, ASleeperWakesBeforeItIsStruckAndTakesTheBlow) {
@@ -133,12 +135,11 @@ TEST(Sleeping, ASleepingPileStruckByABallWakesAndComesToRestAgain) {
   EXPECT_LT(measure(s.world).max_penetration_r, 0.01);
 }
 
-TEST(Sleeping, APileWokenByAMoverKeepsItsSupportInTheStepItWakes) {
-  // The wake system runs after the narrowphase, which lists no pair of two sleepers: a pile it
-  // woke had no contacts among its balls for that step and fell freely for it (all of them at
-  // g dt = 0.16 m/s, and overlaps of 0.09 r three steps later). A woken pile must be solved
-  // with its contacts in the step it wakes. Here its top ball is thrown upward; the balls it
-  // leaves have no reason to move.
+TEST(Sleeping, ARegionWokenByAMoverKeepsItsSupportInTheStepItWakes) {
+  // The top ball of the sleeping pile is thrown upward: its region wakes before the step's
+  // search (systems/sleeping.h), and is solved with its contacts and its warm loads, so the
+  // balls the thrown one leaves have no reason to move. Woken without them, all would fall
+  // freely for the step (g dt = 0.16 m/s) and overlap by 0.09 r three steps later.
   test::Sim s;
   sleepy_pour(s);
   s.step(900);
@@ -147,19 +148,180 @@ TEST(Sleeping, APileWokenByAMoverKeepsItsSupportInTheStepItWakes) {
   const std::uint32_t top = static_cast<std::uint32_t>(
       std::max_element(x.begin(), x.end(), [](const Vec3& a, const Vec3& b) { return a.y() < b.y(); }) - x.begin());
   const Entity thrown = s.world.spheres.entity_at(top);
-  // Woken by hand, as the narrowphase finds it: awake and moving (a sleeper has no velocity).
   s.world.spheres.mut_asleep()[top] = 0;
   s.world.spheres.mut_still_time()[top] = 0.0f;
   s.world.spheres.mut_velocity()[top] = Vec3(0.0f, 1.0f, 0.0f);
   s.step();
-  // A ball or two may rest apart from the pile, on the floor alone (6 of these 1,000).
-  EXPECT_LT(sleepers(s.world), s.world.spheres.size() / 100) << "the pile it left woke";
+  EXPECT_LT(sleepers(s.world), s.world.spheres.size()) << "the region it left woke";
   float fastest_left = 0.0f;
   auto v = s.world.spheres.velocity();
   for (std::uint32_t i = 0; i < v.size(); ++i)
     if (s.world.spheres.entity_at(i) != thrown) fastest_left = std::max(fastest_left, v[i].norm());
-  // Free fall for the step would be 0.16 m/s; the pile at rest, as it was, moves by solver noise.
-  EXPECT_LT(fastest_left, 0.02f);
+  // No ball pops as its region wakes: under the wake speed (0.05 m/s), so that waking spreads
+  // no further by itself; free fall for the step would be 0.16 m/s.
+  EXPECT_LT(fastest_left, s.world.solver.wake_speed);
   s.step(3);
   EXPECT_LT(measure(s.world).max_penetration_r, 0.01);
+}
+
+namespace {
+
+// A wide, shallow pile, as a pit is: three layers of balls on a 2.4 m square floor, ten
+// regions across (systems/sleep_regions.h), dropped from a few millimetres.
+void shallow_pile(test::Sim& s, int threads = 1) {
+  test::make_pit(s.world, 1.2f, 0.5f, 0.5f);
+  s.world.solver.sleeping = true;
+  const float r = 0.04f, spacing = 2.05f * r;
+  for (int layer = 0; layer < 3; ++layer)
+    for (float px = -1.2f + r + 0.002f + (layer % 2) * r; px < 1.2f - r; px += spacing)
+      for (float pz = -1.2f + r + 0.002f + (layer % 2) * r; pz < 1.2f - r; pz += spacing)
+        test::add_ball(s.world, Vec3(px, r + 0.001f + layer * 1.6f * r, pz));
+  s.start(threads);
+}
+
+// Spheres asleep with their centre within `radius` of `centre` across the floor (x, z), and awake.
+struct Census {
+  std::size_t near_asleep = 0, near_awake = 0, far_asleep = 0, far_awake = 0;
+};
+Census census(const World& w, const Vec3& centre, float radius) {
+  Census c;
+  auto x = w.spheres.position();
+  auto a = w.spheres.asleep();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Vec3 d = x[i] - centre;
+    const bool near = d.x() * d.x() + d.z() * d.z() < radius * radius;
+    (near ? (a[i] ? c.near_asleep : c.near_awake) : (a[i] ? c.far_asleep : c.far_awake))++;
+  }
+  return c;
+}
+
+// A kinematic sphere collider moved by hand, as a character's limb is moved by its systems.
+struct Stirrer {
+  std::uint32_t row;
+  Vec3 at, velocity;
+  void add(World& w, const Vec3& start, float radius) {
+    ColliderDesc d;
+    d.a = d.b = at = start;
+    d.radius = radius;
+    row = w.colliders.add(d);
+  }
+  void move(World& w, const Vec3& v) {
+    velocity = v;
+    w.colliders.set_pose(row, at, at, v, v);
+    at += v * w.step();
+  }
+};
+
+}  // namespace
+
+TEST(Sleeping, APileSleepsRegionByRegionWhileOneCornerIsStirred) {
+  // A pile that slept only as one never slept while anything in it moved. Here a limb stirs
+  // one corner for the whole run: the rest of the pile falls asleep around it.
+  test::Sim s;
+  shallow_pile(s);
+  Stirrer stick;
+  const Vec3 corner(-0.9f, 0.1f, -0.9f);
+  stick.add(s.world, corner, 0.06f);
+  for (int k = 0; k < 600; ++k) {
+    const float t = static_cast<float>(k) * s.world.step();
+    stick.move(s.world, Vec3(std::cos(2.0f * t), 0.0f, -std::sin(2.0f * t)) * 0.15f);  // circles of 7.5 cm
+    s.step();
+  }
+  // The limb's circle and the balls it pushes span about 0.4 m from the corner; the regions
+  // next to those (0.48 m wide) wake whenever a pushed ball comes within a step of them, and
+  // sleep again half a second after. Beyond two regions, all sleeps.
+  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.4f + 2.0f * 0.48f);
+  EXPECT_GT(near.near_awake, 0u) << "the stirred corner sleeps";
+  EXPECT_EQ(c.far_awake, 0u) << "the pile away from the stirred corner still moves";
+  EXPECT_GT(c.far_asleep, s.world.spheres.size() / 2);
+}
+
+TEST(Sleeping, ABallDroppedOnASleepingPileWakesOnlyTheRegionItReaches) {
+  test::Sim s;
+  shallow_pile(s);
+  s.step(300);
+  ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
+  float top = 0.0f;
+  for (const Vec3& x : s.world.spheres.position()) top = std::max(top, x.y());
+  const Vec3 drop(0.3f, top + 0.5f, 0.3f);
+  const Entity ball = test::add_ball(s.world, drop);
+  // Heights of the balls under the drop before it lands, to see that the pile does not sink.
+  auto column_top = [&] {
+    float y = 0.0f;
+    auto x = s.world.spheres.position();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (s.world.spheres.entity_at(static_cast<std::uint32_t>(i)) != ball && std::abs(x[i].x() - drop.x()) < 0.2f &&
+          std::abs(x[i].z() - drop.z()) < 0.2f)
+        y = std::max(y, x[i].y());
+    return y;
+  };
+  const float before = column_top();
+  float fastest = 0.0f;
+  std::size_t most_awake = 0;
+  for (int k = 0; k < 120; ++k) {
+    s.step();
+    for (const Vec3& v : s.world.spheres.velocity()) fastest = std::max(fastest, v.norm());
+    most_awake = std::max(most_awake, s.world.spheres.size() - sleepers(s.world));
+  }
+  const Census c = census(s.world, drop, 1.0f);
+  EXPECT_GT(most_awake, 1u) << "the landing woke nothing";
+  EXPECT_LT(most_awake, s.world.spheres.size() / 4) << "waking spread beyond where the ball landed";
+  EXPECT_EQ(c.far_awake, 0u);
+  // It lands at sqrt(2 g 0.5) = 3.1 m/s; nothing it strikes may go faster.
+  EXPECT_LT(fastest, 3.2f);
+  // The pile under it does not sink (its top within 1% r of where it was, or the ball on it).
+  EXPECT_GT(column_top(), before - 0.01f * 0.04f);
+  s.step(300);
+  EXPECT_EQ(sleepers(s.world), s.world.spheres.size()) << "it came to rest and slept again";
+  EXPECT_LT(measure(s.world).max_penetration_r, 0.01);
+}
+
+TEST(Sleeping, ALimbWalkingThroughASleepingPitLeavesNoBallInsideAndWakesOnlyWhatItReaches) {
+  test::Sim s;
+  shallow_pile(s);
+  Stirrer leg;
+  const Vec3 start(-1.0f, 0.12f, 0.0f);
+  leg.add(s.world, start, 0.08f);
+  s.step(300);
+  ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
+  ColliderOverlap worst;
+  for (int k = 0; k < 180; ++k) {  // 3 s at 0.6 m/s across the pit, through the middle layer
+    leg.move(s.world, Vec3(0.6f, 0.0f, 0.0f));
+    s.step();
+    const ColliderOverlap o = measure_collider_overlap(s.world);
+    worst.max_depth_r = std::max(worst.max_depth_r, o.max_depth_r);
+    worst.inside = std::max(worst.inside, o.inside);
+  }
+  EXPECT_EQ(worst.inside, 0u) << "deepest " << worst.max_depth_r << " r";
+  // Its path is a strip along x at z = 0, and the balls it pushes stay within 0.3 m of it:
+  // balls more than two regions (2 x 0.48 m) beyond that were never reached.
+  std::size_t far_awake = 0;
+  float fastest_far = 0.0f;
+  auto x = s.world.spheres.position();
+  auto v = s.world.spheres.velocity();
+  auto a = s.world.spheres.asleep();
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (std::abs(x[i].z()) > 0.3f + 0.96f) {
+      far_awake += !a[i];
+      fastest_far = std::max(fastest_far, v[i].norm());
+    }
+  EXPECT_EQ(far_awake, 0u) << "fastest there " << fastest_far << " m/s";
+  EXPECT_LT(sleepers(s.world), s.world.spheres.size()) << "nothing woke in its path";
+}
+
+TEST(Sleeping, OneAndTwoThreadsGiveTheSameStateWhileRegionsSleepAndWake) {
+  auto run = [](int threads) {
+    test::Sim s;
+    shallow_pile(s, threads);
+    Stirrer stick;
+    stick.add(s.world, Vec3(0.5f, 0.1f, -0.5f), 0.06f);
+    for (int k = 0; k < 240; ++k) {
+      stick.move(s.world, k < 200 ? Vec3(0.0f, 0.0f, 0.5f) : Vec3::Zero());
+      s.step();
+    }
+    EXPECT_GT(sleepers(s.world), 0u);
+    EXPECT_LT(sleepers(s.world), s.world.spheres.size());
+    return state_hash(s.world);
+  };
+  EXPECT_EQ(run(1), run(2));
 }
