@@ -49,7 +49,14 @@ void timing_section(const Session& session, const Profiler& frame_profiler, cons
 }
 
 void sphere_section(Session& session, ViewState& view) {
-  ImGui::Text("%zu spheres", session.world().spheres.size());
+  const World& world = session.world();
+  if (world.solver.sleeping) {  // what the step pays for (systems/sleeping.h)
+    auto asleep = world.spheres.asleep();
+    const auto awake = static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{0}));
+    ImGui::Text("%zu spheres, %zu awake", world.spheres.size(), awake);
+  } else {
+    ImGui::Text("%zu spheres", world.spheres.size());
+  }
   ImGui::SetNextItemWidth(120.0f);
   ImGui::SliderInt("##pour", &view.pour_count, 100, 50000, "%d balls", ImGuiSliderFlags_Logarithmic);
   ImGui::SameLine();
