@@ -73,8 +73,9 @@ inline void shift_apart(const LaneSlice& s, std::uint32_t lanes, SolverBodies& b
 }
 
 // A sleeper is immobile this step, so exactly one side of its pair has zero mobility; a blow
-// that would change the mover's speed by more than wake_speed wakes it (the sleep system acts
-// on the request after the step).
+// that would change the mover's speed by more than args.wake_speed (kStruckWakeFactor times the
+// settings' wake speed, systems/sleep_regions.h) wakes it (the sleep system acts on the
+// request after the step).
 inline void request_wakes(const LaneSlice& s, const LaneState& c, const BatchPassArgs& args) {
   const LaneMask one_asleep = (c.ma == 0.0f) != (c.mb == 0.0f);
   const LaneMask hard = c.applied * (c.ma + c.mb) > args.wake_speed;

@@ -24,6 +24,11 @@ constexpr std::size_t kRowsPerThread = 131072;
 // SCENES.md, 1% r). Still but not yet pushed apart, a region would keep its overlap for as long
 // as it sleeps (the 1,000-ball pour slept with a pair 1.18% r deep).
 constexpr float kSleepOverlapFraction = 0.01f;
+// A sleeper pressed deeper than this by an awake sphere wakes: twice the bound above, so that a
+// region that fell asleep near the bound is not woken by the last settling of the regions
+// around it (at once the bound, a stirred corner kept waking regions 1.5 m away, one after the
+// other, each pressed a hair past 1% r by the one before as it settled).
+constexpr float kPressedWakeFraction = 2.0f * kSleepOverlapFraction;
 
 // Several threads may mark one region; every write stores the same value, so the outcome is
 // deterministic, and atomic_ref keeps it free of data races.
@@ -103,6 +108,28 @@ void mark_deep_contacts(const World& world, const SleepRegions& regions, std::ve
   }
 }
 
+// Marks the region of every sleeper that an awake sphere presses deeper than kPressedWakeFraction: a
+// sleeper cannot yield, and a sphere caught between it and a limb or a moving crowd would be
+// squeezed into it for as long as it sleeps.
+void mark_pressed(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
+  auto x = world.spheres.position();
+  auto r = world.spheres.radius();
+  auto asleep = world.spheres.asleep();
+  auto check = [&](const Contact& c) {
+    if (c.b & kTagMask) return;
+    if (asleep[c.a] == asleep[c.b]) return;
+    const float reach = r[c.a] + r[c.b] - kPressedWakeFraction * std::min(r[c.a], r[c.b]);
+    if ((x[c.a] - x[c.b]).squaredNorm() < reach * reach) set_mark(marks[regions.of(x[asleep[c.a] ? c.a : c.b])]);
+  };
+  const std::vector<SlabContacts>& slabs = world.contacts.slabs;
+  const int count = static_cast<int>(slabs.size());
+#pragma omp parallel for schedule(dynamic, 4)
+  for (int k = 0; k < count; ++k) {
+    for (const Contact& c : slabs[k].pairs) check(c);
+    for (const Contact& c : slabs[k].serial) check(c);
+  }
+}
+
 // Wakes the sleepers of the marked regions; returns how many.
 std::size_t wake_marked(World& world, const SleepRegions& regions, const std::vector<std::uint8_t>& marks) {
   SphereTable& spheres = world.spheres;
@@ -156,14 +183,16 @@ void update_sleep(World& world) {
   const SleepRegions regions = regions_of(world);
   auto x = spheres.position();
 
-  // A sleeper the solver struck harder than wake_speed wakes with its region (the step treated
-  // it as fixed; the next one moves it).
+  // A sleeper the solver struck hard (kStruckWakeFactor), or that an awake sphere presses deeper
+  // than the bound, wakes with its region: the step treated it as fixed, the next one moves it.
   const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
-  if (requests.size() == spheres.size() && std::find(requests.begin(), requests.end(), 1) != requests.end()) {
+  if (any_asleep(spheres.asleep())) {
     std::vector<std::uint8_t> struck(regions.size(), 0);
-    for (std::size_t i = 0; i < requests.size(); ++i)
-      if (requests[i]) struck[regions.of(x[i])] = 1;
-    wake_marked(world, regions, struck);
+    if (requests.size() == spheres.size())
+      for (std::size_t i = 0; i < requests.size(); ++i)
+        if (requests[i]) struck[regions.of(x[i])] = 1;
+    mark_pressed(world, regions, struck);
+    if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end()) wake_marked(world, regions, struck);
   }
   if (all_asleep(spheres.asleep())) return;  // a pit asleep whole: nothing to count
 

@@ -604,7 +604,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   const float inv_h = 1.0f / h;
   step.args.params = {h, inv_h, settings.push_out_rate * inv_h, settings.push_out_speed, settings.restitution_threshold};
   step.args.wake_requests = sleepers ? world.contacts.wake_requests.data() : nullptr;
-  step.args.wake_speed = settings.wake_speed;
+  step.args.wake_speed = kStruckWakeFactor * settings.wake_speed;
   for (int k = 0; k < 3; ++k) step.args.gravity[k] = world.gravity()[k];
   step.args.frames_current = false;  // new batches: no pass has computed a frame yet
   // One team for every substep, its passes divided by barriers: each start of a parallel region

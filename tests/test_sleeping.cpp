@@ -7,6 +7,7 @@
 #include "engine/pour_scene.h"
 #include "engine/state_hash.h"
 #include "systems/joint_colliders.h"
+#include "systems/sleep_regions.h"
 #include "tiny_world.h"
 
 using namespace ballpit;
@@ -166,15 +167,15 @@ TEST(Sleeping, ARegionWokenByAMoverKeepsItsSupportInTheStepItWakes) {
 
 namespace {
 
-// A wide, shallow pile, as a pit is: three layers of balls on a 2.4 m square floor, ten
-// regions across (systems/sleep_regions.h), dropped from a few millimetres.
-void shallow_pile(test::Sim& s, int threads = 1) {
-  test::make_pit(s.world, 1.2f, 0.5f, 0.5f);
+// A wide, shallow pile, as a pit is: three layers of balls on a square floor (2.4 m: ten
+// regions across, systems/sleep_regions.h: 0.24 m each), dropped from a few millimetres.
+void shallow_pile(test::Sim& s, int threads = 1, float half_width = 1.2f) {
+  test::make_pit(s.world, half_width, 0.5f, 0.5f);
   s.world.solver.sleeping = true;
-  const float r = 0.04f, spacing = 2.05f * r;
+  const float r = 0.04f, spacing = 2.05f * r, h = half_width;
   for (int layer = 0; layer < 3; ++layer)
-    for (float px = -1.2f + r + 0.002f + (layer % 2) * r; px < 1.2f - r; px += spacing)
-      for (float pz = -1.2f + r + 0.002f + (layer % 2) * r; pz < 1.2f - r; pz += spacing)
+    for (float px = -h + r + 0.002f + (layer % 2) * r; px < h - r; px += spacing)
+      for (float pz = -h + r + 0.002f + (layer % 2) * r; pz < h - r; pz += spacing)
         test::add_ball(s.world, Vec3(px, r + 0.001f + layer * 1.6f * r, pz));
   s.start(threads);
 }
@@ -227,10 +228,11 @@ TEST(Sleeping, APileSleepsRegionByRegionWhileOneCornerIsStirred) {
     stick.move(s.world, Vec3(std::cos(2.0f * t), 0.0f, -std::sin(2.0f * t)) * 0.15f);  // circles of 7.5 cm
     s.step();
   }
-  // The limb's circle and the balls it pushes span about 0.4 m from the corner; the regions
-  // next to those (0.48 m wide) wake whenever a pushed ball comes within a step of them, and
-  // sleep again half a second after. Beyond two regions, all sleeps.
-  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.4f + 2.0f * 0.48f);
+  // The balls the limb pushes faster than the wake speed lie within 0.5 m of the corner; the
+  // regions next to those wake whenever a pushed ball comes within a step of them, and sleep
+  // again half a second after. Beyond two regions more (and a ball's reach), all sleeps.
+  const float region = kSleepRegionDiameters * 2.0f * 0.04f;
+  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.5f + 2.0f * region + 0.1f);
   EXPECT_GT(near.near_awake, 0u) << "the stirred corner sleeps";
   EXPECT_EQ(c.far_awake, 0u) << "the pile away from the stirred corner still moves";
   EXPECT_GT(c.far_asleep, s.world.spheres.size() / 2);
@@ -276,37 +278,72 @@ TEST(Sleeping, ABallDroppedOnASleepingPileWakesOnlyTheRegionItReaches) {
   EXPECT_LT(measure(s.world).max_penetration_r, 0.01);
 }
 
-TEST(Sleeping, ALimbWalkingThroughASleepingPitLeavesNoBallInsideAndWakesOnlyWhatItReaches) {
-  test::Sim s;
-  shallow_pile(s);
-  Stirrer leg;
-  const Vec3 start(-1.0f, 0.12f, 0.0f);
-  leg.add(s.world, start, 0.08f);
-  s.step(300);
-  ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
+namespace {
+
+// A limb walking through a settled shallow pile along x at z = 0: the deepest a ball went into
+// it, and for each 0.1 m band of distance |z| from its path, whether a ball there ever moved
+// faster than the wake speed (reached) and whether one is awake at the end.
+struct Walk {
   ColliderOverlap worst;
-  for (int k = 0; k < 180; ++k) {  // 3 s at 0.6 m/s across the pit, through the middle layer
-    leg.move(s.world, Vec3(0.6f, 0.0f, 0.0f));
+  std::vector<bool> reached, awake;
+  std::size_t asleep_after = 0, spheres = 0;
+};
+
+Walk walk_limb(bool sleeping) {
+  test::Sim s;
+  shallow_pile(s, 1, 2.2f);
+  s.world.solver.sleeping = sleeping;
+  Stirrer leg;
+  leg.add(s.world, Vec3(-1.5f, 0.12f, 0.0f), 0.08f);
+  s.step(300);
+  Walk w;
+  const std::size_t bands = 22;
+  w.reached.assign(bands, false);
+  w.awake.assign(bands, false);
+  const float wake_speed = s.world.solver.wake_speed;
+  for (int k = 0; k < 360; ++k) {  // 6 s at 0.5 m/s across the pit, through the middle layer
+    leg.move(s.world, Vec3(0.5f, 0.0f, 0.0f));
     s.step();
     const ColliderOverlap o = measure_collider_overlap(s.world);
-    worst.max_depth_r = std::max(worst.max_depth_r, o.max_depth_r);
-    worst.inside = std::max(worst.inside, o.inside);
+    w.worst.max_depth_r = std::max(w.worst.max_depth_r, o.max_depth_r);
+    w.worst.inside = std::max(w.worst.inside, o.inside);
+    auto x = s.world.spheres.position();
+    auto v = s.world.spheres.velocity();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (v[i].norm() > wake_speed) w.reached[std::min(bands - 1, static_cast<std::size_t>(std::abs(x[i].z()) / 0.1f))] = true;
   }
-  EXPECT_EQ(worst.inside, 0u) << "deepest " << worst.max_depth_r << " r";
-  // Its path is a strip along x at z = 0, and the balls it pushes stay within 0.3 m of it:
-  // balls more than two regions (2 x 0.48 m) beyond that were never reached.
-  std::size_t far_awake = 0;
-  float fastest_far = 0.0f;
   auto x = s.world.spheres.position();
-  auto v = s.world.spheres.velocity();
   auto a = s.world.spheres.asleep();
   for (std::size_t i = 0; i < x.size(); ++i)
-    if (std::abs(x[i].z()) > 0.3f + 0.96f) {
-      far_awake += !a[i];
-      fastest_far = std::max(fastest_far, v[i].norm());
-    }
-  EXPECT_EQ(far_awake, 0u) << "fastest there " << fastest_far << " m/s";
-  EXPECT_LT(sleepers(s.world), s.world.spheres.size()) << "nothing woke in its path";
+    if (!a[i]) w.awake[std::min(bands - 1, static_cast<std::size_t>(std::abs(x[i].z()) / 0.1f))] = true;
+  w.asleep_after = sleepers(s.world);
+  w.spheres = s.world.spheres.size();
+  return w;
+}
+
+std::size_t farthest(const std::vector<bool>& bands) {
+  std::size_t last = 0;
+  for (std::size_t b = 0; b < bands.size(); ++b)
+    if (bands[b]) last = b;
+  return last;
+}
+
+}  // namespace
+
+TEST(Sleeping, ALimbWalkingThroughASleepingPitLeavesNoBallInsideAndWakesOnlyWhatItReaches) {
+  // What the limb reaches is measured by the same walk with sleeping off: the farthest band
+  // from its path in which a ball ever moved faster than the wake speed (1.1 m: it shoves the
+  // top layer ahead of it, and balls roll off far). With sleeping on, no ball may be awake more
+  // than two regions (and a ball's reach) beyond that.
+  const Walk off = walk_limb(false), on = walk_limb(true);
+  EXPECT_EQ(on.worst.inside, 0u) << "deepest " << on.worst.max_depth_r << " r";
+  EXPECT_EQ(off.worst.inside, 0u) << "deepest " << off.worst.max_depth_r << " r";
+  const float region = kSleepRegionDiameters * 2.0f * 0.04f;
+  const std::size_t reach = farthest(off.reached), slack = static_cast<std::size_t>(std::ceil((2.0f * region + 0.1f) / 0.1f));
+  ASSERT_LT(reach + slack, off.reached.size() - 1) << "the pit is too narrow for the test to mean anything";
+  EXPECT_LE(farthest(on.awake), reach + slack) << "reached to " << reach * 0.1f << " m";
+  EXPECT_GT(on.asleep_after, on.spheres / 3) << "the walk woke most of the pit";
+  EXPECT_LT(on.asleep_after, on.spheres) << "nothing woke in its path";
 }
 
 TEST(Sleeping, OneAndTwoThreadsGiveTheSameStateWhileRegionsSleepAndWake) {
