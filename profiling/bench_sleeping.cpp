@@ -12,6 +12,10 @@
 //   memset and the movers' flags, timed with it). The cost of a step in which regions wake.
 // - asleep_step: a whole physics step (wake, grid, narrowphase, solver, sleeping) of a pit
 //   asleep whole: what a settled pit costs with nothing moving.
+// - tenth_awake_step and awake_step: the same step with the spheres of a tenth of the floor
+//   awake (a disc, as around a character) and the rest asleep, and with all awake (sleeping on,
+//   nothing ready to sleep). Were every system's cost to follow the awake spheres, the first
+//   would cost a tenth of the second.
 #include <algorithm>
 #include <limits>
 
@@ -85,6 +89,35 @@ void hold_still(World& world) {
       if (static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{1})) != n)
         state.SkipWithError("something woke");
     });
+
+// A full physics step with the spheres inside a disc of `awake_share` of the floor awake, the
+// rest asleep, and sleep_time out of reach so that the awake part stays awake.
+void step_with_awake_share(benchmark::State& state, World& world, std::size_t n, double awake_share) {
+  world.solver.sleeping = true;
+  hold_still(world);
+  world.solver.sleep_time = std::numeric_limits<float>::max();
+  auto asleep = world.spheres.mut_asleep();
+  auto x = world.spheres.position();
+  const float w = world.pit.half_width;
+  const float radius2 = static_cast<float>(awake_share) * 4.0f * w * w / 3.14159265f;
+  for (std::size_t i = 0; i < n; ++i) asleep[i] = x[i].x() * x[i].x() + x[i].z() * x[i].z() >= radius2;
+  Scheduler scheduler(omp_get_max_threads());
+  add_physics_systems(scheduler, world);
+  FixedStepLoop loop(world, scheduler);
+  timed_loop(state, n, [&] { loop.step(); });
+  // After the steps: a pit whose contacts are deeper than the bound wakes whole (the packed one).
+  state.counters["awake_fraction"] =
+      static_cast<double>(std::count(asleep.begin(), asleep.end(), std::uint8_t{0})) / static_cast<double>(n);
+}
+
+[[maybe_unused]] const bool kTenthAwakeStep =
+    register_system("tenth_awake_step", [](benchmark::State& state, World& world, std::size_t n) {
+      step_with_awake_share(state, world, n, 0.1);
+    });
+
+[[maybe_unused]] const bool kAwakeStep = register_system("awake_step", [](benchmark::State& state, World& world, std::size_t n) {
+  step_with_awake_share(state, world, n, 2.0);  // a disc past the corners: all of it
+});
 
 }  // namespace
 }  // namespace ballpit::profiling

@@ -12,7 +12,7 @@ import statistics
 from report_common import machine_line, md_table
 
 NAME = re.compile(r"^(?P<system>[^/]+)/(?P<kind>[^/]+)/n:(?P<n>\d+)/threads:(?P<threads>\d+)")
-SYSTEM_ORDER = ["grid_sort", "grid", "narrowphase", "narrowphase_flung", "solver", "solver_one_substep", "integrate", "sleeping", "sleeping_regions", "wake", "asleep_step", "substep_control"]
+SYSTEM_ORDER = ["grid_sort", "grid", "narrowphase", "narrowphase_flung", "solver", "solver_one_substep", "integrate", "sleeping", "sleeping_regions", "wake", "asleep_step", "tenth_awake_step", "awake_step", "substep_control"]
 TO_MS = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
 
 
