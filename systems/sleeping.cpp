@@ -77,7 +77,8 @@ void mark_motion(const World& world, const SleepRegions& regions, std::vector<st
   }
 }
 
-// Marks the regions of both spheres of every contact deeper than kSleepOverlapFraction. Planes
+// Marks the regions of both spheres of every contact deeper than kSleepOverlapFraction, and the
+// regions next to those. Planes
 // count; colliders do not (a limb pressing on a ball keeps its region awake by its motion,
 // mark_motion).
 void mark_deep_contacts(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
@@ -93,10 +94,14 @@ void mark_deep_contacts(const World& world, const SleepRegions& regions, std::ve
     const float reach = r[c.a] + r[c.b] - kSleepOverlapFraction * std::min(r[c.a], r[c.b]);
     return (x[c.a] - x[c.b]).squaredNorm() < reach * reach;
   };
+  // The regions around it stay awake too: a deep pair left awake among sleepers that cannot
+  // yield stays as deep for good (the 10k pour kept three pairs 1.0 to 1.5% r deep, awake and
+  // still for 6 s, against 0.16% at most with sleeping off).
+  const Vec3 around = Vec3::Constant(regions.width);
   auto check = [&](const Contact& c) {
     if (!deep(c)) return;
-    set_mark(marks[regions.of(x[c.a])]);
-    if (!(c.b & kTagMask)) set_mark(marks[regions.of(x[c.b])]);
+    regions.mark_box(x[c.a] - around, x[c.a] + around, marks);
+    if (!(c.b & kTagMask)) regions.mark_box(x[c.b] - around, x[c.b] + around, marks);
   };
   const std::vector<SlabContacts>& slabs = world.contacts.slabs;
   const int count = static_cast<int>(slabs.size());
