@@ -151,6 +151,7 @@ struct SlabSearch {
   std::span<const std::uint32_t> new_to_old;
   std::uint8_t* piled;                         // ContactSet::piled of this step
   bool sleepers;                               // some row sleeps: awake rows look back for them
+  const std::uint8_t* sleeper_in_cell;         // NarrowphaseScratch::sleeper_in_cell, when sleepers
 
   // A pair that carried load marks both its rows as piled. The partner may lie in the next slab,
   // whose rows another thread marks too, so the mark is an atomic store (on x86 a plain one).
@@ -353,6 +354,7 @@ struct SlabSearch {
     std::size_t candidates = forward[0].end - cell.begin;
     for (int k = 1; k < 5; ++k) candidates += forward[k].end - forward[k].begin;
     if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
+    const bool look_back = sleepers && sleeper_behind(cx, cy, cz);
     for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
       if (scratch.flags[i] & kAsleepRow) continue;  // an awake partner finds the pair
       if (fast(i)) {
@@ -364,8 +366,21 @@ struct SlabSearch {
       std::uint32_t* end = gather(c, p, {i + 1, forward[0].end}, passed.data());
       for (int k = 1; k < 5; ++k) end = gather(c, p, forward[k], end);
       emit(generator(i), passed.data(), end, out);
-      if (sleepers) sleeping_pairs(c, i, cx, cy, cz, slab, passed, out);
+      if (look_back) sleeping_pairs(c, i, cx, cy, cz, slab, passed, out);
     }
+  }
+
+  // Does a cell of the backward half of (cx, cy, cz)'s neighbourhood, or the cell itself, hold a
+  // sleeper? The cells sleeping_pairs searches.
+  bool sleeper_behind(int cx, int cy, int cz) const {
+    auto any = [&](int ax, int y0, int y1, int az) {
+      if (ax < 0 || az < 0 || az >= grid.nz) return false;
+      for (int ay = std::max(y0, 0); ay <= std::min(y1, grid.ny - 1); ++ay)
+        if (sleeper_in_cell[grid.key(ax, ay, az)]) return true;
+      return false;
+    };
+    return any(cx, cy - 1, cy, cz) || any(cx, cy - 1, cy + 1, cz - 1) || any(cx - 1, cy - 1, cy + 1, cz - 1) ||
+           any(cx - 1, cy - 1, cy + 1, cz) || any(cx - 1, cy - 1, cy + 1, cz + 1);
   }
 
   // A sleeper owns no pair, so the slow awake sphere i also owns its pairs with the sleepers of
@@ -523,13 +538,18 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     contacts,
                     grid.new_to_old,
                     contacts.piled.data(),
-                    any_asleep(asleep)};
+                    any_asleep(asleep),
+                    nullptr};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
 
   // Summaries of last step's cache entries, made in the cache's own (old row) order so the
   // entries are read straight through, then gathered into this step's rows; then the search.
   // One team does all three, with a barrier after each of the first two (each parallel region
   // wakes the team, which costs tens of microseconds where threads wait passively).
+  if (search.sleepers) {
+    scratch.sleeper_in_cell.assign(grid.cell_count(), 0);
+    search.sleeper_in_cell = scratch.sleeper_in_cell.data();
+  }
   const ContactSet& previous = world.contacts;
   const std::int64_t old_rows = previous.warm_begin.empty() ? 0 : static_cast<std::int64_t>(previous.warm_begin.size() - 1);
   scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
@@ -557,6 +577,10 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : kAwakeRow);
       const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
       scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
+      // Rows of one cell are consecutive, and threads share only the cells at their seams,
+      // where both store the same 1.
+      if (search.sleepers && asleep[i])
+        std::atomic_ref<std::uint8_t>(scratch.sleeper_in_cell[grid.cell_of_row[i]]).store(1, std::memory_order_relaxed);
     }  // and the loop's barrier
 
     // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each

@@ -31,6 +31,9 @@ struct NarrowphaseScratch {
   // they name, so a clear bit proves a pair absent (narrowphase.cpp). Made by last step's row
   // (the cache's order), then gathered into this step's.
   Column<std::uint32_t> cached_by_old_row, cached;
+  // Per grid cell: a sphere in it sleeps. Only awake spheres near a sleeper look back for
+  // sleeping partners (narrowphase.cpp), and most awake spheres are nowhere near one.
+  std::vector<std::uint8_t> sleeper_in_cell;
 };
 
 // Every awake sphere lists neighbours within this fraction of its radius, however slow: a

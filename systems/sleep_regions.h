@@ -48,6 +48,7 @@ struct SleepRegions {
   int across[2] = {0, 2};    // the two axes the tiles cut (the third is gravity's)
   float origin[2] = {};      // the pit's low corner along them (unit: m)
   float width = 1.0f;        // a tile's edge (unit: m)
+  float per_width = 1.0f;    // 1 / width: tile() runs for every awake sphere a few times a step
   int count[2] = {1, 1};     // tiles along each axis
 
   // The regions of a pit under gravity g, for spheres up to max_radius.
@@ -57,6 +58,7 @@ struct SleepRegions {
     across[0] = down == 0 ? 1 : 0;
     across[1] = down == 2 ? 1 : 2;
     width = std::max(kSleepRegionDiameters * 2.0f * max_radius, 1e-3f);
+    per_width = 1.0f / width;
     for (int k = 0; k < 2; ++k) {
       const bool vertical = across[k] == 1;
       origin[k] = vertical ? 0.0f : -pit.half_width;
@@ -69,7 +71,7 @@ struct SleepRegions {
 
   // The tile index along axis k of coordinate c, clamped into the pit (NaN to 0).
   int tile(int k, float c) const {
-    const float t = (c - origin[k]) / width;
+    const float t = (c - origin[k]) * per_width;
     if (!(t >= 0.0f)) return 0;
     return t >= static_cast<float>(count[k] - 1) ? count[k] - 1 : static_cast<int>(t);
   }

@@ -77,31 +77,42 @@ void mark_motion(const World& world, const SleepRegions& regions, std::vector<st
   }
 }
 
-// Marks the regions of both spheres of every contact deeper than kSleepOverlapFraction, and the
-// regions next to those. Planes
-// count; colliders do not (a limb pressing on a ball keeps its region awake by its motion,
-// mark_motion).
-void mark_deep_contacts(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
+// What the step's contacts say, in one pass over them:
+// - pressed (when some sphere sleeps): the region of every sleeper that an awake sphere presses
+//   deeper than kPressedWakeFraction. A sleeper cannot yield, and a sphere caught between it and
+//   a limb or a moving crowd would be squeezed into it for as long as it sleeps.
+// - deep (when `deep` is given): the regions of both spheres of every contact deeper than
+//   kSleepOverlapFraction, and the regions next to those, which may not fall asleep. A deep
+//   pair left awake among sleepers that cannot yield stays as deep for good (the 10k pour kept
+//   three pairs 1.0 to 1.5% r deep, awake and still for 6 s, against 0.16% at most with
+//   sleeping off). Planes count; colliders do not (a limb pressing on a ball keeps its region
+//   awake by its motion, mark_motion).
+void mark_contacts(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& pressed,
+                   std::vector<std::uint8_t>* deep) {
   auto x = world.spheres.position();
   auto r = world.spheres.radius();
+  auto asleep = world.spheres.asleep();
   const Pit& pit = world.pit;
-  auto deep = [&](const Contact& c) {
-    if (c.b & kColliderTag) return false;
+  const Vec3 around = Vec3::Constant(regions.width);
+  // The overlap as a fraction of the smaller radius (negative: a gap); colliders give none.
+  auto overlap = [&](const Contact& c) {
+    if (c.b & kColliderTag) return 0.0f;
     if (c.b & kPlaneTag) {
       const int p = static_cast<int>(c.b & ~kTagMask);
-      return pit.plane_normal(p).dot(x[c.a]) - pit.plane_offset(p) < (1.0f - kSleepOverlapFraction) * r[c.a];
+      return 1.0f - (pit.plane_normal(p).dot(x[c.a]) - pit.plane_offset(p)) / r[c.a];
     }
-    const float reach = r[c.a] + r[c.b] - kSleepOverlapFraction * std::min(r[c.a], r[c.b]);
-    return (x[c.a] - x[c.b]).squaredNorm() < reach * reach;
+    return (r[c.a] + r[c.b] - (x[c.a] - x[c.b]).norm()) / std::min(r[c.a], r[c.b]);
   };
-  // The regions around it stay awake too: a deep pair left awake among sleepers that cannot
-  // yield stays as deep for good (the 10k pour kept three pairs 1.0 to 1.5% r deep, awake and
-  // still for 6 s, against 0.16% at most with sleeping off).
-  const Vec3 around = Vec3::Constant(regions.width);
   auto check = [&](const Contact& c) {
-    if (!deep(c)) return;
-    regions.mark_box(x[c.a] - around, x[c.a] + around, marks);
-    if (!(c.b & kTagMask)) regions.mark_box(x[c.b] - around, x[c.b] + around, marks);
+    const float depth = overlap(c);
+    if (!(depth > kSleepOverlapFraction)) return;  // most contacts
+    const bool pair = !(c.b & kTagMask);
+    if (pair && depth > kPressedWakeFraction && asleep[c.a] != asleep[c.b])
+      set_mark(pressed[regions.of(x[asleep[c.a] ? c.a : c.b])]);
+    if (deep) {
+      regions.mark_box(x[c.a] - around, x[c.a] + around, *deep);
+      if (pair) regions.mark_box(x[c.b] - around, x[c.b] + around, *deep);
+    }
   };
   const std::vector<SlabContacts>& slabs = world.contacts.slabs;
   const int count = static_cast<int>(slabs.size());
@@ -109,28 +120,6 @@ void mark_deep_contacts(const World& world, const SleepRegions& regions, std::ve
   for (int k = 0; k < count; ++k) {
     for (const Contact& c : slabs[k].pairs) check(c);
     for (const Contact& c : slabs[k].statics) check(c);
-    for (const Contact& c : slabs[k].serial) check(c);
-  }
-}
-
-// Marks the region of every sleeper that an awake sphere presses deeper than kPressedWakeFraction: a
-// sleeper cannot yield, and a sphere caught between it and a limb or a moving crowd would be
-// squeezed into it for as long as it sleeps.
-void mark_pressed(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
-  auto x = world.spheres.position();
-  auto r = world.spheres.radius();
-  auto asleep = world.spheres.asleep();
-  auto check = [&](const Contact& c) {
-    if (c.b & kTagMask) return;
-    if (asleep[c.a] == asleep[c.b]) return;
-    const float reach = r[c.a] + r[c.b] - kPressedWakeFraction * std::min(r[c.a], r[c.b]);
-    if ((x[c.a] - x[c.b]).squaredNorm() < reach * reach) set_mark(marks[regions.of(x[asleep[c.a] ? c.a : c.b])]);
-  };
-  const std::vector<SlabContacts>& slabs = world.contacts.slabs;
-  const int count = static_cast<int>(slabs.size());
-#pragma omp parallel for schedule(dynamic, 4)
-  for (int k = 0; k < count; ++k) {
-    for (const Contact& c : slabs[k].pairs) check(c);
     for (const Contact& c : slabs[k].serial) check(c);
   }
 }
@@ -185,22 +174,9 @@ void update_sleep(World& world) {
   const TeamSize team(team_for(world.spheres.size(), kRowsPerThread));
   SphereTable& spheres = world.spheres;
   const SolverSettings& s = world.solver;
+  if (all_asleep(spheres.asleep())) return;  // nothing moved, nothing was solved
   const SleepRegions regions = regions_of(world);
   auto x = spheres.position();
-
-  // A sleeper the solver struck hard (kStruckWakeFactor), or that an awake sphere presses deeper
-  // than the bound, wakes with its region: the step treated it as fixed, the next one moves it.
-  const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
-  if (any_asleep(spheres.asleep())) {
-    std::vector<std::uint8_t> struck(regions.size(), 0);
-    if (requests.size() == spheres.size())
-      for (std::size_t i = 0; i < requests.size(); ++i)
-        if (requests[i]) struck[regions.of(x[i])] = 1;
-    mark_pressed(world, regions, struck);
-    if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end()) wake_marked(world, regions, struck);
-  }
-  if (all_asleep(spheres.asleep())) return;  // a pit asleep whole: nothing to count
-
   auto asleep = spheres.mut_asleep();
   auto still = spheres.mut_still_time();
   auto v = spheres.mut_velocity();
@@ -211,7 +187,8 @@ void update_sleep(World& world) {
   const float sleep2 = s.sleep_speed * s.sleep_speed;
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
 
-  // The clock first: the regions matter only once a sphere has been still for sleep_time.
+  // The clock: the regions matter for falling asleep only once a sphere has been still for
+  // sleep_time.
   bool ready = false;
 #pragma omp parallel for schedule(static) reduction(|| : ready)
   for (std::int64_t i = 0; i < n; ++i) {
@@ -221,13 +198,25 @@ void update_sleep(World& world) {
     else still[i] = 0.0f;
     ready = ready || still[i] >= s.sleep_time;
   }
+
+  // A sleeper the solver struck hard (kStruckWakeFactor), or that an awake sphere presses deeper
+  // than the bound, wakes with its region: the step treated it as fixed, the next one moves it.
+  // Its clock starts again, so its region is restless below.
+  std::vector<std::uint8_t> struck(regions.size(), 0), restless;
+  if (ready) restless.assign(regions.size(), 0);
+  const bool sleepers = any_asleep(spheres.asleep());
+  const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
+  if (sleepers && requests.size() == spheres.size())
+    for (std::size_t i = 0; i < requests.size(); ++i)
+      if (requests[i]) struck[regions.of(x[i])] = 1;
+  if (sleepers || ready) mark_contacts(world, regions, struck, ready ? &restless : nullptr);
+  if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end()) wake_marked(world, regions, struck);
   if (!ready) return;
 
   // Restless regions: those with an awake sphere not yet still for sleep_time, those that
   // motion may reach in the next step (which would only wake them again), and those with a
-  // contact deeper than the bound. Rows come sorted by grid cell, so runs of rows share a
-  // region: each thread marks a region once per run.
-  std::vector<std::uint8_t> restless(regions.size(), 0);
+  // deep contact in or next to them (above). Rows come sorted by grid cell, so runs of rows
+  // share a region: each thread marks a region once per run.
   mark_motion(world, regions, restless);
 #pragma omp parallel
   {
@@ -240,7 +229,6 @@ void update_sleep(World& world) {
       last = region;
     }
   }
-  mark_deep_contacts(world, regions, restless);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i)
     if (!asleep[i] && !restless[regions.of(x[i])]) {
