@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "engine/error.h"
@@ -98,7 +99,8 @@ void JsonFields::vec3(const std::string& key, Vec3& out, const char* unit) const
     fail(field(key), std::string("expected [x, y, z] (") + unit + "), got " + json_type_name(*v));
   for (int a = 0; a < 3; ++a) {
     const Json& c = (*v)[static_cast<std::size_t>(a)];
-    if (!c.is_number() || !std::isfinite(c.get<double>()))
+    // Finite as a float too: 1e300 is a finite double, but beyond the float the engine keeps.
+    if (!c.is_number() || !(std::abs(c.get<double>()) <= std::numeric_limits<float>::max()))
       fail(field(key) + "[" + std::to_string(a) + "]", "expected a finite number, got " + json_type_name(c));
     out[a] = c.get<float>();
   }

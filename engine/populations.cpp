@@ -232,6 +232,9 @@ std::size_t add_populations(World& world, std::span<const Population> population
     const std::uint16_t material = material_index(world, pop.material);
     // One stream per population; population 0 draws from the scene seed itself (the pour's).
     std::mt19937 rng(seed ^ (static_cast<std::uint32_t>(k) * 0x9E3779B9u));
+    // Velocity jitter draws from a second stream, so a population's places are the same with
+    // and without it (and with none, nothing is drawn).
+    std::mt19937 velocity_rng(seed ^ (static_cast<std::uint32_t>(k) * 0x9E3779B9u) ^ 0x5BD1E995u);
     const float r_max = pop.radius.largest();
     const Lattice l = lattice_of(pop, world, top);
     std::optional<PlacedSpheres> placed;
@@ -267,6 +270,10 @@ std::size_t add_populations(World& world, std::span<const Population> population
           d.radius = r;
           d.mass = pop.mass_of(r);
           d.material = material;
+          d.velocity = pop.velocity;
+          if (pop.velocity_jitter > 0.0f)
+            for (int a = 0; a < 3; ++a) d.velocity[a] += (2.0f * uniform01(velocity_rng) - 1.0f) * pop.velocity_jitter;
+          d.angular_velocity = pop.spin;
           batch.push_back(d);
         }
       }

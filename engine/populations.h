@@ -5,7 +5,8 @@
 // jitter +-0.05 r per axis from raw mt19937 bits, layer by layer from the floor), so no two
 // spawned spheres overlap whatever the radius distribution, and the canonical pour is the
 // one-population case bit for bit. Random draws use one stream per population, seeded from the
-// scene seed, so adding a population never changes the ones before it.
+// scene seed, so adding a population never changes the ones before it (velocity jitter has a
+// second stream of its own, so it never moves a sphere's place).
 #pragma once
 
 #include <cstdint>
@@ -66,6 +67,12 @@ struct Population {
   Material material;
   ColorScheme color;
   Placement placement;
+  // How the population starts moving: every sphere at `velocity`, plus a per-axis draw uniform
+  // in +-velocity_jitter (from a stream of its own, so jitter never moves a sphere's place),
+  // spinning at `spin`. A volley fired into the pit is a population with a velocity.
+  Vec3 velocity = Vec3::Zero();  // (unit: m/s)
+  float velocity_jitter = 0.0f;  // (unit: m/s) per axis
+  Vec3 spin = Vec3::Zero();      // angular velocity (unit: rad/s); needs the angular state
 
   float mass_of(float radius) const;  // (unit: kg)
 };

@@ -73,7 +73,7 @@ void parse_solver(const Json& j, SolverSettings& v, const std::string& source) {
 }
 
 // Checks that need the whole scene: a stated character needs its section, every sphere fits
-// between the walls, every box lies inside the pit.
+// between the walls, a spinning population has the angular state, every box lies inside the pit.
 void check_scene(const SceneFile& s, const Json& j) {
   if (s.features.character == FeatureSwitch::On && !s.character)
     scene_error(s.source, "features.character", "expected \"auto\" or false: the scene has no character section");
@@ -94,6 +94,11 @@ void check_scene(const SceneFile& s, const Json& j) {
                   "expected a pit wider than one sphere (" + at + " has radius " + number_text(r) + " m), got " +
                       (by_width ? "width " + number_text(2.0f * half) : "half width " + number_text(half)) + " m");
     }
+    if (p.spin != Vec3::Zero() && s.features.angular == FeatureSwitch::Off)
+      scene_error(s.source, at + ".spin",
+                  "expected [0, 0, 0] with features.angular false (spin needs the angular state), got [" +
+                      number_text(p.spin.x()) + ", " + number_text(p.spin.y()) + ", " + number_text(p.spin.z()) +
+                      "]; set features.angular to \"auto\" or true");
     if (p.placement.kind == Placement::Kind::Box) {
       const Vec3& lo = p.placement.min;
       const Vec3& hi = p.placement.max;
@@ -143,7 +148,10 @@ bool SceneFile::uses_angular() const {
   if (features.angular != FeatureSwitch::Auto) return features.angular == FeatureSwitch::On;
   // Friction is what spins a sphere (pairs combine by geometric mean, so a frictionless ball
   // gets no torque even from a rough wall).
-  return std::any_of(populations.begin(), populations.end(), [](const Population& p) { return p.material.friction > 0.0f; });
+  // A population that starts spinning needs the state to hold its spin.
+  return std::any_of(populations.begin(), populations.end(), [](const Population& p) {
+    return p.material.friction > 0.0f || p.spin != Vec3::Zero();
+  });
 }
 
 bool SceneFile::uses_character() const { return character.has_value() && features.character != FeatureSwitch::Off; }

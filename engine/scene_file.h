@@ -8,7 +8,8 @@
 //   included) before it is read again, so an override reaches any field, list elements too
 //   (populations.0.radius=0.05), and is checked exactly like the file.
 // - Only what a scene uses is built: features say whether balls spin (angular state, derived
-//   from friction unless stated) and whether the character is used (derived from the section).
+//   from friction or a starting spin unless stated) and whether the character is used (derived
+//   from the section).
 #pragma once
 
 #include <array>
@@ -66,7 +67,7 @@ struct SceneCharacter {
 enum class FeatureSwitch : std::uint8_t { Auto, On, Off };
 
 struct SceneFeatures {
-  FeatureSwitch angular = FeatureSwitch::Auto;    // Auto: spin state when any population has friction
+  FeatureSwitch angular = FeatureSwitch::Auto;    // Auto: spin state when any population has friction or spin
   FeatureSwitch character = FeatureSwitch::Auto;  // Auto: when there is a character section; Off ignores it
   // Sleeping is the third feature; it lives in SolverSettings::sleeping ("features.sleeping" in
   // the file), off by default as the pour is measured.

@@ -178,12 +178,17 @@ Json population_to_json(const Population& p) {
   j["material"] = {{"restitution", p.material.restitution}, {"friction", p.material.friction}};
   j["color"] = color_to_json(p.color);
   j["placement"] = placement_to_json(p.placement);
+  j["velocity"] = {p.velocity.x(), p.velocity.y(), p.velocity.z()};
+  j["velocity_jitter"] = p.velocity_jitter;
+  j["spin"] = {p.spin.x(), p.spin.y(), p.spin.z()};
   return j;
 }
 
 Population parse_population(const Json& j, const std::string& path, const std::string& source) {
   Population p;
-  JsonFields f(j, path, source, {"count", "radius", "mass", "density", "material", "color", "placement"});
+  JsonFields f(j, path, source,
+               {"count", "radius", "mass", "density", "material", "color", "placement", "velocity", "velocity_jitter",
+                "spin"});
   f.integer("count", p.count, 1, 1LL << 32);
   if (const Json* r = f.find("radius")) p.radius = parse_radius(*r, f.field("radius"), source);
   if (f.find("mass") && f.find("density"))
@@ -200,6 +205,10 @@ Population parse_population(const Json& j, const std::string& path, const std::s
   }
   if (const Json* c = f.find("color")) p.color = parse_color(*c, f.field("color"), source);
   if (const Json* pl = f.find("placement")) p.placement = parse_placement(*pl, f.field("placement"), source);
+  // Any finite velocity and spin: what the engine makes of a fast one is the solver's to bound.
+  f.vec3("velocity", p.velocity, "m/s");
+  f.number("velocity_jitter", p.velocity_jitter, 0.0f, kNoLimit, false, "m/s per axis");
+  f.vec3("spin", p.spin, "rad/s");
   return p;
 }
 

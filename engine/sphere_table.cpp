@@ -24,6 +24,9 @@ void SphereTable::add(Entity e, const SphereDesc& d) {
   auto fail = [&](const std::string& what) { throw Error("sphere " + to_string(e) + ": " + what); };
   if (!all_finite(d.position)) fail("position must be finite, got " + vec_text(d.position));
   if (!all_finite(d.velocity)) fail("velocity must be finite, got " + vec_text(d.velocity));
+  if (!all_finite(d.angular_velocity)) fail("angular velocity must be finite, got " + vec_text(d.angular_velocity));
+  if (!has_angular_ && d.angular_velocity != Vec3::Zero())
+    fail("angular velocity " + vec_text(d.angular_velocity) + " rad/s needs the angular columns (set_angular)");
   if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
     fail("radius must be a finite number > 0 m, got " + std::to_string(d.radius));
   if (!(d.mass > 0.0f) || !std::isfinite(d.mass) || !std::isfinite(1.0f / d.mass))
@@ -34,7 +37,7 @@ void SphereTable::add(Entity e, const SphereDesc& d) {
   row_of_[e.index] = static_cast<std::uint32_t>(entity_.size());
   position_.push_back(d.position);
   velocity_.push_back(d.velocity);
-  if (has_angular_) angular_velocity_.push_back(Vec3::Zero());
+  if (has_angular_) angular_velocity_.push_back(d.angular_velocity);
   radius_.push_back(d.radius);
   inv_mass_.push_back(1.0f / d.mass);
   material_.push_back(d.material);

@@ -24,6 +24,9 @@ namespace ballpit {
 struct SphereDesc {
   Vec3 position = Vec3::Zero();  // (unit: m)
   Vec3 velocity = Vec3::Zero();  // (unit: m/s)
+  // Spin (unit: rad/s). Stored only in a table with angular columns (set_angular); a non-zero
+  // one without them is refused, since the spin would be dropped without a word.
+  Vec3 angular_velocity = Vec3::Zero();
   float radius = 0.04f;          // (unit: m)
   float mass = 0.05f;            // (unit: kg)
   std::uint16_t material = 0;    // index into World::materials
@@ -34,8 +37,9 @@ class SphereTable {
  public:
   static constexpr std::uint32_t kNoRow = 0xffffffffu;
 
-  // Validates the description (finite position and velocity, radius > 0, mass > 0) and throws
-  // ballpit::Error naming the entity and the field otherwise.
+  // Validates the description (finite position, velocity and spin, radius > 0, mass > 0, no
+  // spin without angular columns) and throws ballpit::Error naming the entity and the field
+  // otherwise.
   void add(Entity e, const SphereDesc& d);
   void remove(Entity e);  // swap-remove: the last row moves into the hole
   void reserve(std::size_t n);

@@ -74,6 +74,9 @@ SceneFile every_field_moved() {
   a.placement.jitter_r = 0.1f;
   a.placement.min = Vec3(-1.0f, 0.0f, -1.0f);
   a.placement.max = Vec3(1.0f, 2.0f, 1.0f);
+  a.velocity = Vec3(0.5f, -1.0f, 2.0f);
+  a.velocity_jitter = 0.25f;
+  a.spin = Vec3(1.0f, 2.0f, -3.0f);
   Population b;
   b.count = 40;
   b.radius.kind = RadiusSpec::Kind::Uniform;

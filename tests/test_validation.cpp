@@ -37,6 +37,20 @@ TEST(Validation, NonFinitePositionsAndVelocitiesAreRefusedNamingTheEntity) {
   EXPECT_EQ(w.entities.live_count(), 1u);
 }
 
+TEST(Validation, ANonFiniteSpinOrOneWithoutAngularColumnsIsRefused) {
+  World w;
+  SphereDesc d;
+  d.angular_velocity = Vec3(0, 5, 0);
+  // Without angular columns the spin would be dropped without a word.
+  expect_mentions(error_of([&] { w.add_sphere(d); }), {"entity 0", "angular velocity", "angular columns"});
+  w.enable_angular(true);
+  d.angular_velocity = Vec3(0, std::numeric_limits<float>::infinity(), 0);
+  expect_mentions(error_of([&] { w.add_sphere(d); }), {"angular velocity", "finite"});
+  d.angular_velocity = Vec3(0, 5, 0);
+  const Entity e = w.add_sphere(d);
+  EXPECT_EQ(w.spheres.angular_velocity()[w.spheres.row(e)], Vec3(0, 5, 0));
+}
+
 TEST(Validation, NonPositiveRadiusAndMassAreRefused) {
   World w;
   expect_mentions(error_of([&] { test::add_ball(w, Vec3::Zero(), Vec3::Zero(), 0.0f); }), {"radius", "> 0"});
