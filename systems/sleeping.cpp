@@ -95,20 +95,20 @@ void mark_contacts(const World& world, const SleepRegions& regions, std::vector<
   auto asleep = world.spheres.asleep();
   const Pit& pit = world.pit;
   const Vec3 around = Vec3::Constant(regions.width);
-  // The overlap as a fraction of the smaller radius (negative: a gap); colliders give none.
-  auto overlap = [&](const Contact& c) {
-    if (c.b & kColliderTag) return 0.0f;
+  // Is the overlap deeper than `fraction` of the smaller radius? Colliders count as never.
+  auto deeper = [&](const Contact& c, float fraction) {
+    if (c.b & kColliderTag) return false;
     if (c.b & kPlaneTag) {
       const int p = static_cast<int>(c.b & ~kTagMask);
-      return 1.0f - (pit.plane_normal(p).dot(x[c.a]) - pit.plane_offset(p)) / r[c.a];
+      return pit.plane_normal(p).dot(x[c.a]) - pit.plane_offset(p) < (1.0f - fraction) * r[c.a];
     }
-    return (r[c.a] + r[c.b] - (x[c.a] - x[c.b]).norm()) / std::min(r[c.a], r[c.b]);
+    const float reach = r[c.a] + r[c.b] - fraction * std::min(r[c.a], r[c.b]);
+    return (x[c.a] - x[c.b]).squaredNorm() < reach * reach;
   };
   auto check = [&](const Contact& c) {
-    const float depth = overlap(c);
-    if (!(depth > kSleepOverlapFraction)) return;  // most contacts
+    if (!deeper(c, kSleepOverlapFraction)) return;  // most contacts
     const bool pair = !(c.b & kTagMask);
-    if (pair && depth > kPressedWakeFraction && asleep[c.a] != asleep[c.b])
+    if (pair && asleep[c.a] != asleep[c.b] && deeper(c, kPressedWakeFraction))
       set_mark(pressed[regions.of(x[asleep[c.a] ? c.a : c.b])]);
     if (deep) {
       regions.mark_box(x[c.a] - around, x[c.a] + around, *deep);
