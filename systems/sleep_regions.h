@@ -45,6 +45,8 @@ inline constexpr float kSleepRegionDiameters = 3.0f;
 inline constexpr float kStruckWakeFactor = 4.0f;
 
 struct SleepRegions {
+  static constexpr float kMostTiles = 1024.0f;  // along each axis: at most a million regions
+
   int across[2] = {0, 2};    // the two axes the tiles cut (the third is gravity's)
   float origin[2] = {};      // the pit's low corner along them (unit: m)
   float width = 1.0f;        // a tile's edge (unit: m)
@@ -57,14 +59,19 @@ struct SleepRegions {
     const int down = (a.x() > a.y() && a.x() >= a.z()) ? 0 : (a.z() > a.y() && a.z() > a.x()) ? 2 : 1;
     across[0] = down == 0 ? 1 : 0;
     across[1] = down == 2 ? 1 : 2;
-    width = std::max(kSleepRegionDiameters * 2.0f * max_radius, 1e-3f);
-    per_width = 1.0f / width;
+    float extent[2];
     for (int k = 0; k < 2; ++k) {
       const bool vertical = across[k] == 1;
       origin[k] = vertical ? 0.0f : -pit.half_width;
-      const float extent = vertical ? pit.wall_height : 2.0f * pit.half_width;
-      count[k] = static_cast<int>(std::clamp(std::ceil(extent / width), 1.0f, 4096.0f));
+      const float e = vertical ? pit.wall_height : 2.0f * pit.half_width;
+      extent[k] = std::isfinite(e) && e > 0.0f ? e : 0.0f;  // the scene's checks refuse such a pit
     }
+    // Regions wider than the spheres ask for where the pit would need more than kMostTiles
+    // along an axis (a huge pit of small balls): every step allocates the regions' marks.
+    width = std::max({kSleepRegionDiameters * 2.0f * max_radius, extent[0] / kMostTiles, extent[1] / kMostTiles, 1e-3f});
+    per_width = 1.0f / width;
+    for (int k = 0; k < 2; ++k)
+      count[k] = static_cast<int>(std::clamp(std::ceil(extent[k] * per_width), 1.0f, static_cast<float>(kMostTiles)));
   }
 
   std::size_t size() const { return static_cast<std::size_t>(count[0]) * count[1]; }
