@@ -362,3 +362,25 @@ TEST(Sleeping, OneAndTwoThreadsGiveTheSameStateWhileRegionsSleepAndWake) {
   };
   EXPECT_EQ(run(1), run(2));
 }
+
+TEST(SleepRegions, AreColumnsAlongGravityAndFitAnyPit) {
+  Pit pit;
+  pit.half_width = 2.0f;
+  pit.wall_height = 3.0f;
+  const float r = 0.04f;
+  const SleepRegions down(pit, Vec3(0.0f, -9.81f, 0.0f), r);
+  EXPECT_EQ(down.of(Vec3(0.5f, 0.1f, -0.7f)), down.of(Vec3(0.5f, 2.5f, -0.7f))) << "one column from floor to top";
+  EXPECT_NE(down.of(Vec3(0.5f, 0.1f, -0.7f)), down.of(Vec3(0.5f + down.width, 0.1f, -0.7f)));
+  EXPECT_FLOAT_EQ(down.width, kSleepRegionDiameters * 2.0f * r);
+  const SleepRegions sideways(pit, Vec3(9.81f, 0.0f, 0.0f), r);  // the camera rolled: columns along x
+  EXPECT_EQ(sideways.of(Vec3(-1.9f, 1.0f, 0.3f)), sideways.of(Vec3(1.9f, 1.0f, 0.3f)));
+  EXPECT_NE(sideways.of(Vec3(0.0f, 1.0f, 0.3f)), sideways.of(Vec3(0.0f, 1.0f + sideways.width, 0.3f)));
+  // Outside the pit, and NaN, clamp into a border region.
+  EXPECT_LT(down.of(Vec3(50.0f, 0.0f, -50.0f)), down.size());
+  EXPECT_LT(down.of(Vec3(std::nanf(""), 0.0f, 0.0f)), down.size());
+  // A huge pit of small balls gets wider regions, not millions of them.
+  pit.half_width = 5000.0f;
+  const SleepRegions huge(pit, Vec3(0.0f, -9.81f, 0.0f), r);
+  EXPECT_LE(huge.size(), 1024u * 1024u);
+  EXPECT_GE(huge.width * huge.count[0], 2.0f * pit.half_width);
+}
