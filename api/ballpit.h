@@ -149,7 +149,8 @@ class Simulation {
   float dt() const;
   void set_substeps(int substeps);  // 1..64 (engine/settings.h says what they buy)
   int substeps() const;
-  // Settled piles sleep and cost nothing until struck. Changing it restarts the timings.
+  // Settled regions of the pit sleep and cost nothing until motion reaches them (systems/
+  // sleeping.h). Changing it restarts the timings.
   void set_sleeping(bool sleeping);
   bool sleeping() const;
 
