@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "engine/error.h"
+#include "engine/speculative_margin.h"
 
 namespace ballpit {
 
@@ -111,10 +113,26 @@ World::StepWarnings World::step_warnings() const {
   }
   if (dt_ > kLongestCheapStep * (1.0f + 1e-5f))
     warnings.step = say(std::snprintf(text, sizeof text,
-        "a step of dt %.4g s is longer than 1/30 s: speculative margins grow with dt^2 and outgrow the grid's cells, "
-        "so every ball searches a wider box (a 2,000-ball pour cost 66 ms per simulated second at 1/60 s, 161 at "
-        "1/20 s, 2,490 at 1/10 s). Shorter steps are cheaper as well as more accurate.",
+        "a step of dt %.4g s is longer than 1/30 s: speculative margins grow with dt^2, so every ball searches a "
+        "wider box, up to the margin cap (2.5 r), past which the step runs as several passes (before the cap, a "
+        "2,000-ball pour cost 66 ms per simulated second at 1/60 s, 161 at 1/20 s, 2,490 at 1/10 s). Shorter steps "
+        "are cheaper as well as more accurate.",
         static_cast<double>(dt_)));
+  // A resting ball's margin still grows with g h^2 / 4 over a pass of h: the smallest ball at rest
+  // bounds every pass from above, whatever else moves.
+  float smallest = std::numeric_limits<float>::infinity();
+  for (float r : spheres.radius()) smallest = std::min(smallest, r);
+  const double g = gravity_.norm();
+  if (g > 0.0 && std::isfinite(smallest)) {
+    const double resting_pass = std::sqrt((kSplitMarginFraction - kMinMarginFraction) * smallest / (0.25 * g));
+    if (dt_ > kMostPassesPerStep * resting_pass)
+      warnings.passes = say(std::snprintf(text, sizeof text,
+          "gravity of %.3g m/s^2 on a ball of r = %.3g m needs passes of at most %.3g s to keep speculative margins "
+          "within %.1f r, and a step of dt %.4g s may take at most %d: balls can end inside each other. A dt of %.3g s "
+          "or less holds it (--set dt=...).",
+          g, static_cast<double>(smallest), resting_pass, static_cast<double>(kSplitMarginFraction),
+          static_cast<double>(dt_), kMostPassesPerStep, kMostPassesPerStep * resting_pass));
+  }
   return warnings;
 }
 

@@ -13,6 +13,7 @@
 #include "engine/settings.h"
 #include "engine/spatial_grid.h"
 #include "engine/sphere_table.h"
+#include "engine/step_passes.h"
 
 namespace ballpit {
 
@@ -72,6 +73,7 @@ class World {
   struct StepWarnings {
     std::string substep;  // dt / substeps is longer than kLongestAccurateSubstep, and what would do
     std::string step;     // dt is longer than kLongestCheapStep
+    std::string passes;   // even a resting ball needs more passes than a step may take (step_passes.h)
   };
   StepWarnings step_warnings() const;
 
@@ -92,6 +94,7 @@ class World {
   SpatialGrid grid;
   ContactSet contacts;
   std::uint64_t step_count = 0;
+  PassRecord passes;  // what the last step took (engine/step_passes.h); the fixed-step loop writes it
 
  private:
   Vec3 gravity_ = Vec3(0.0f, -9.81f, 0.0f);

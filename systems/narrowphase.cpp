@@ -448,16 +448,6 @@ struct SlabSearch {
 
 }  // namespace
 
-float pair_margin(float speed, float dt, float gravity, float radius) {
-  return speed * dt + 0.25f * gravity * dt * dt + kMinMarginFraction * radius;
-}
-
-float static_margin_extra(float dt, float gravity) { return 0.75f * gravity * dt * dt; }
-
-float speculative_margin(float speed, float dt, float gravity, float radius) {
-  return pair_margin(speed, dt, gravity, radius) + static_margin_extra(dt, gravity);
-}
-
 Access NarrowphaseSystem::access() const {
   Access a;
   a.reads = {ColumnId::SpherePosition, ColumnId::SphereVelocity, ColumnId::SphereRadius,
@@ -568,7 +558,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
 
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < count; ++i) {
-      float m = asleep[i] ? kMinMarginFraction * r[i] : pair_margin(v[i].norm(), dt, g, r[i]);
+      float m = asleep[i] ? kMinMarginFraction * r[i] : capped_pair_margin(v[i].norm(), dt, g, r[i]);
       scratch.x[i] = x[i].x();
       scratch.y[i] = x[i].y();
       scratch.z[i] = x[i].z();

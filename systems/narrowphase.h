@@ -6,13 +6,16 @@
 // Decision: contacts are speculative. A pair is kept when its gap is below the sum of both
 // spheres' margins (distance each can travel this step, relative to the other: pair_margin),
 // so the solver can stop a fast sphere at the surface instead of finding it inside, or past,
-// its partner next step.
+// its partner next step. A margin is capped at kMostMarginFraction of the radius
+// (engine/speculative_margin.h), which bounds what a sphere lists; motion too fast for the cap
+// is split into passes of the step (engine/step_passes.h).
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "engine/aligned_vector.h"
+#include "engine/speculative_margin.h"
 #include "engine/system.h"
 
 namespace ballpit {
@@ -35,28 +38,6 @@ struct NarrowphaseScratch {
   // sleeping partners (narrowphase.cpp), and most awake spheres are nowhere near one.
   std::vector<std::uint8_t> sleeper_in_cell;
 };
-
-// Every awake sphere lists neighbours within this fraction of its radius, however slow: a
-// resting row must already know its touching pairs when a blow lands mid-step, or the blow
-// cannot pass along it within the step (Newton's cradle). Touching is what it must cover: at
-// 0.05 r a settled 100k pile listed 72,650 pairs (21%) 0.01 to 0.15 r apart that carried
-// nothing and cost a lane in every pass; at 0.02 r its settled step is about 8% cheaper, and
-// every case of profiling/reports/speed_error.md keeps its bound.
-inline constexpr float kMinMarginFraction = 0.02f;
-
-// Speculative margin of a sphere moving at `speed` for one step dt under gravity g, against
-// another sphere: the distance it can cover, plus the minimum above, plus a quarter of g dt^2.
-// Gravity moves both spheres alike, so a pair closes under it only where one sphere falls and
-// the other is held up: by at most 1/2 g dt^2, half of which each side's margin covers.
-float pair_margin(float speed, float dt, float gravity, float radius);
-
-// What a margin against a pit plane or a joint collider adds to the pair margin: those do not
-// fall with the sphere, so it covers the whole gravity drop twice over, for the velocity the
-// sphere gains (g dt^2 in all).
-float static_margin_extra(float dt, float gravity);
-
-// The same sphere's margin against a pit plane or a joint collider.
-float speculative_margin(float speed, float dt, float gravity, float radius);
 
 // Fills world.contacts from the current (grid-sorted) rows. Deterministic for any thread
 // count: each slab's lists depend only on its rows.
