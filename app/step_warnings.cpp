@@ -14,6 +14,7 @@ void print_step_warnings(const World& world, bool substeps_chosen_per_step) {
   if (!substeps_chosen_per_step) print(warnings.substep);
   print(warnings.step);
   print(warnings.passes);
+  print(warnings.gravity);
 }
 
 }  // namespace ballpit
