@@ -40,7 +40,10 @@ void FixedStepLoop::step() {
     for (;;) {
       // Whole if it fits the cap (a calm step, as before passes existed); once split, every pass
       // is planned for the split margin (kSplitMarginFraction).
-      float longest = record.passes == 0 ? longest_capped_pass(world_) : 0.0f;
+      // A world with joint colliders runs whole (engine/step_passes.h says why).
+      const bool whole = world_.colliders.size() > 0;
+      float longest = whole ? std::numeric_limits<float>::infinity()
+                            : record.passes == 0 ? longest_capped_pass(world_) : 0.0f;
       if (!(longest >= remaining)) longest = longest_capped_pass(world_, kSplitMarginFraction);
       const int wanted = passes_needed(remaining, longest);
       const int budget = kMostPassesPerStep - record.passes;

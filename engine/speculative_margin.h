@@ -30,9 +30,10 @@ inline constexpr float kMostMarginFraction = 2.5f;
 // the other is held up: by at most 1/2 g dt^2, half of which each side's margin covers.
 float pair_margin(float speed, float dt, float gravity, float radius);
 
-// pair_margin held to the cap, kMostMarginFraction x radius: what the narrowphase lists by. It
+// pair_margin held to the cap, kMostMarginFraction x radius: what the narrowphase lists by in a
+// world without joint colliders (one with them runs whole steps, engine/step_passes.h). It
 // differs from pair_margin only in a step that needed more passes than the loop allows, which
-// the loop warns of (engine/step_passes.h).
+// the loop warns of.
 float capped_pair_margin(float speed, float dt, float gravity, float radius);
 
 // What a margin against a pit plane or a joint collider adds to the pair margin: those do not

@@ -499,6 +499,10 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     all_colliders.add(collider_box[c]);
   }
 
+  // A world with joint colliders runs whole steps, not passes (engine/step_passes.h), so its
+  // margins must cover a whole step's motion: the cap would let a flung ball through.
+  const bool margins_capped = colliders.size() == 0;
+
   const Pit& pit = world.pit;
   const PitPlanes pit_planes(pit);
   const float static_extra = static_margin_extra(dt, g);
@@ -558,7 +562,9 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
 
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < count; ++i) {
-      float m = asleep[i] ? kMinMarginFraction * r[i] : capped_pair_margin(v[i].norm(), dt, g, r[i]);
+      float m = asleep[i]          ? kMinMarginFraction * r[i]
+                : margins_capped ? capped_pair_margin(v[i].norm(), dt, g, r[i])
+                                 : pair_margin(v[i].norm(), dt, g, r[i]);
       scratch.x[i] = x[i].x();
       scratch.y[i] = x[i].y();
       scratch.z[i] = x[i].z();
