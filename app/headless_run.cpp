@@ -14,6 +14,7 @@
 #include "engine/error.h"
 #include "engine/fixed_step_loop.h"
 #include "engine/memory_budget.h"
+#include "engine/memory_use.h"
 #include "engine/metrics.h"
 #include "engine/pour_scene.h"
 #include "engine/scene_file.h"
@@ -60,6 +61,30 @@ PhaseTimes summarize(std::vector<double> ms) {
 double round_to(double x, double digits) {
   double f = std::pow(10.0, digits);
   return std::round(x * f) / f;
+}
+
+// What each table and system holds at the end of the run, in bytes a sphere (engine/memory_use.h),
+// printed as a table beside the systems' times when asked. Peak RSS also counts the program,
+// its libraries, and what was freed before the end.
+nlohmann::ordered_json memory_breakdown(const World& world, const Scheduler& scheduler, bool print) {
+  nlohmann::ordered_json j;
+  const double n = static_cast<double>(std::max<std::size_t>(world.spheres.size(), 1));
+  double total = 0.0;
+  std::string table = "memory held                            bytes/sphere\n";
+  for (const MemoryItem& item : memory_by_table(world, scheduler)) {
+    const double per = static_cast<double>(item.bytes) / n;
+    total += per;
+    j[item.table] = round_to(per, 1);
+    char line[96];
+    std::snprintf(line, sizeof line, "%-38s %12.1f\n", item.table.c_str(), per);
+    table += line;
+  }
+  char line[96];
+  std::snprintf(line, sizeof line, "%-38s %12.1f\n", "(all tables)", total);
+  table += line;
+  if (print) std::fprintf(stderr, "%s", table.c_str());
+  j["all tables"] = round_to(total, 1);
+  return j;
 }
 
 }  // namespace
@@ -197,6 +222,7 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   if (!o.trace_path.empty()) scheduler.profiler().write_trace(o.trace_path);
 
   nlohmann::ordered_json report = step_report(o.scene, world, o.threads, step_ms);
+  report["bytes_per_sphere_by_table"] = memory_breakdown(world, scheduler, o.print_table);
   if (loaded) {
     report["loaded"] = o.load_path;
     report["load_ms"] = round_to(load_ms, 1);

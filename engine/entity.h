@@ -34,6 +34,9 @@ class EntityRegistry {
   // Exact internal state, for snapshots (engine/snapshot.h): the free list's order decides
   // which slot create() hands out next, so a resumed run must get it back as it was.
   const std::vector<std::uint32_t>& free_list() const { return free_; }
+  std::size_t held_bytes() const {
+    return (generations_.capacity() + free_.capacity()) * sizeof(std::uint32_t) + alive_.capacity() / 8;
+  }
   // Replaces the registry: every slot not in free_list is alive. Throws ballpit::Error if an
   // index in free_list is out of range or repeated.
   void restore(std::vector<std::uint32_t> generations, std::vector<std::uint32_t> free_list);

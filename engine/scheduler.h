@@ -48,6 +48,7 @@ class Scheduler {
 
   std::size_t size() const { return systems_.size(); }
   System& system(std::size_t i) { return *systems_[i]; }
+  const System& system(std::size_t i) const { return *systems_[i]; }
   // Indices of the systems i must wait for (direct predecessors only).
   const std::vector<std::size_t>& predecessors(std::size_t i);
   Profiler& profiler() { return profiler_; }

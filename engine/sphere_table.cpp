@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "engine/error.h"
+#include "engine/memory_use.h"
 
 namespace ballpit {
 
@@ -185,6 +186,17 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
       for (std::int64_t i = 0; i < n; ++i) row_of_[entity[i]] = static_cast<std::uint32_t>(i);
     }
   }
+}
+
+SphereTable::HeldBytes SphereTable::held() const {
+  HeldBytes h;
+  h.columns = held_bytes(row_of_);
+  each_column(*this, [&](const auto& column, const auto& target) {
+    h.columns += held_bytes(column);
+    h.reorder += held_bytes(target);
+  });
+  for (const auto& rows : moved_) h.reorder += held_bytes(rows);
+  return h;
 }
 
 std::size_t SphereTable::bytes_per_sphere() const {

@@ -91,6 +91,11 @@ class SphereTable {
 
   // Bytes held per sphere by the columns, permute()'s targets included (for the memory report).
   std::size_t bytes_per_sphere() const;
+  // Bytes the columns (with the entity -> row map) and permute()'s targets hold now.
+  struct HeldBytes {
+    std::size_t columns = 0, reorder = 0;
+  };
+  HeldBytes held() const;
 
  private:
   template <class T>

@@ -4,8 +4,10 @@
 #pragma once
 
 #include <string_view>
+#include <vector>
 
 #include "engine/access.h"
+#include "engine/memory_use.h"
 
 namespace ballpit {
 
@@ -21,6 +23,9 @@ class System {
   // that calls run_frame, never on a worker (engine/scheduler.h); one that does not say so
   // may run on a worker, whose loops run one thread.
   virtual bool data_parallel() const { return false; }
+  // What the system keeps on the heap between steps (its scratch), part by part, for the memory
+  // breakdown (engine/memory_use.h).
+  virtual std::vector<MemoryItem> held() const { return {}; }
 };
 
 }  // namespace ballpit

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 
+#include "engine/memory_use.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/sleep_regions.h"
@@ -139,6 +140,10 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
     }
   }
   g.cell_start[cells] = static_cast<std::uint32_t>(n);
+}
+
+std::vector<MemoryItem> GridSystem::held() const {
+  return {{"histograms and keys", held_bytes(scratch_.histograms) + held_bytes(scratch_.keys)}};
 }
 
 Access GridSystem::access() const {

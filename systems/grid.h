@@ -38,6 +38,7 @@ class GridSystem : public System {
   Access access() const override;
   void run(World& world) override;
   bool data_parallel() const override { return true; }
+  std::vector<MemoryItem> held() const override;
 
  private:
   GridScratch scratch_;

@@ -12,6 +12,7 @@
 #include <bit>
 #include <cmath>
 
+#include "engine/memory_use.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/sleep_regions.h"
@@ -447,6 +448,14 @@ struct SlabSearch {
 };
 
 }  // namespace
+
+std::vector<MemoryItem> NarrowphaseSystem::held() const {
+  const NarrowphaseScratch& s = scratch_;
+  std::size_t rows = held_bytes(s.flags);
+  for (const auto* column : {&s.x, &s.y, &s.z, &s.radius, &s.margin}) rows += held_bytes(*column);
+  return {{"row columns", rows},
+          {"warm-start summaries", held_bytes(s.cached_by_old_row) + held_bytes(s.cached) + held_bytes(s.sleeper_in_cell)}};
+}
 
 Access NarrowphaseSystem::access() const {
   Access a;

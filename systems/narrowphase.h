@@ -49,6 +49,7 @@ class NarrowphaseSystem : public System {
   Access access() const override;
   void run(World& world) override { find_contacts(world, scratch_); }
   bool data_parallel() const override { return true; }
+  std::vector<MemoryItem> held() const override;
 
  private:
   NarrowphaseScratch scratch_;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "engine/error.h"
+#include "engine/memory_use.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
 #include "systems/batch_kernels.h"
@@ -566,6 +567,22 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
 }
 
 }  // namespace
+
+std::vector<MemoryItem> solver_held(const SolverScratch& s) {
+  std::size_t batches = held_bytes(s.serial), lists = held_bytes(s.serial_pairs) + held_bytes(s.last_batch) +
+                                                      held_bytes(s.even_group_rows);
+  for (int parity = 0; parity < 2; ++parity) {
+    lists += held_bytes(s.groups[parity]) + held_bytes(s.contacts_before[parity]) + held_bytes(s.batches_before[parity]);
+    for (const SlabGroup& g : s.groups[parity]) {
+      batches += held_bytes(g.planes) + held_bytes(g.pair_batches);
+      lists += held_bytes(g.slabs) + held_bytes(g.statics) + held_bytes(g.pairs) + held_bytes(g.colliders);
+    }
+  }
+  return {{"bodies", held_bytes(s.bodies.body)},
+          {"batches", batches},
+          {"group lists", lists},
+          {"last warm-start cache", held_bytes(s.previous_warm_begin) + held_bytes(s.previous_warm)}};
+}
 
 Access SolverSystem::access() const {
   Access a;

@@ -104,6 +104,9 @@ struct SolverScratch {
   std::vector<WarmStartEntry> previous_warm;
 };
 
+// What the scratch holds: bodies, batches, the groups' lists, the last step's warm-start cache.
+std::vector<MemoryItem> solver_held(const SolverScratch& scratch);
+
 // Runs the substeps of one step over world.contacts (found by the narrowphase).
 void solve_contacts(World& world, SolverScratch& scratch);
 void solve_contacts(World& world);  // with scratch of its own
@@ -114,6 +117,7 @@ class SolverSystem : public System {
   Access access() const override;
   void run(World& world) override { solve_contacts(world, scratch_); }
   bool data_parallel() const override { return true; }
+  std::vector<MemoryItem> held() const override { return solver_held(scratch_); }
 
  private:
   SolverScratch scratch_;
