@@ -181,6 +181,8 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
   std::vector<double> step_ms;
   step_ms.reserve(static_cast<std::size_t>(o.steps));
   double awake_sum = 0.0;  // spheres awake after each step, summed (outside the timing)
+  long long pass_sum = 0;  // passes each step took (engine/step_passes.h), summed
+  int pass_max = 0;
   auto started = std::chrono::steady_clock::now();
   auto last_report = started;
   for (int s = 0; s < o.steps; ++s) {
@@ -189,6 +191,8 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     loop.step();
     auto t1 = std::chrono::steady_clock::now();
     step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    pass_sum += world.passes.passes;
+    pass_max = std::max(pass_max, world.passes.passes);
     if (o.after_step) o.after_step(world);
     if (world.solver.sleeping) {
       auto asleep = world.spheres.asleep();
@@ -233,6 +237,11 @@ nlohmann::ordered_json run_headless(const RunOptions& options) {
     report["saved"] = o.save_path;
     report["save_ms"] = round_to(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count(), 1);
   }
+  // Passes the steps were split into, for motion too fast for a capped margin (engine/step_passes.h),
+  // and the steps that needed more than a step may take (warned of once, as they happen).
+  report["passes_max"] = pass_max;
+  report["passes_mean"] = round_to(step_ms.empty() ? 0.0 : static_cast<double>(pass_sum) / static_cast<double>(step_ms.size()), 3);
+  report["steps_short_of_passes"] = world.passes.steps_short;
   if (world.solver.sleeping) {  // how much of the pit the steps moved (systems/sleeping.h)
     report["awake_mean"] = round_to(step_ms.empty() ? 0.0 : awake_sum / static_cast<double>(step_ms.size()), 1);
     auto asleep = world.spheres.asleep();
