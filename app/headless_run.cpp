@@ -71,17 +71,18 @@ nlohmann::ordered_json memory_breakdown(const World& world, const Scheduler& sch
   const double n = static_cast<double>(std::max<std::size_t>(world.spheres.size(), 1));
   double total = 0.0;
   std::string table = "memory held                            bytes/sphere\n";
+  auto add_line = [&](const std::string& name, double per) {
+    char line[96];
+    std::snprintf(line, sizeof line, "%-38s %12.1f\n", name.c_str(), per);
+    table += line;
+  };
   for (const MemoryItem& item : memory_by_table(world, scheduler)) {
     const double per = static_cast<double>(item.bytes) / n;
     total += per;
     j[item.table] = round_to(per, 1);
-    char line[96];
-    std::snprintf(line, sizeof line, "%-38s %12.1f\n", item.table.c_str(), per);
-    table += line;
+    add_line(item.table, per);
   }
-  char line[96];
-  std::snprintf(line, sizeof line, "%-38s %12.1f\n", "(all tables)", total);
-  table += line;
+  add_line("(all tables)", total);
   if (print) std::fprintf(stderr, "%s", table.c_str());
   j["all tables"] = round_to(total, 1);
   return j;

@@ -34,14 +34,14 @@ void FixedStepLoop::step() {
   record.longest = std::numeric_limits<float>::infinity();
   bool short_of_passes = false;
   float remaining = dt;
+  // A world with joint colliders runs whole (engine/step_passes.h says why).
+  const bool whole = world_.colliders.size() > 0;
   try {
     // Each pass is planned from the velocities the last one left: a ball that speeds up (or is
     // hit) shortens the passes after it, one that stops lengthens them.
     for (;;) {
       // Whole if it fits the cap (a calm step, as before passes existed); once split, every pass
       // is planned for the split margin (kSplitMarginFraction).
-      // A world with joint colliders runs whole (engine/step_passes.h says why).
-      const bool whole = world_.colliders.size() > 0;
       float longest = whole ? std::numeric_limits<float>::infinity()
                             : record.passes == 0 ? longest_capped_pass(world_) : 0.0f;
       if (!(longest >= remaining)) longest = longest_capped_pass(world_, kSplitMarginFraction);

@@ -27,13 +27,17 @@ float longest_capped_pass(const World& world, float margin_fraction) {
     smallest = std::min(smallest, r[i]);
   }
   if (!(smallest < std::numeric_limits<float>::infinity())) return std::numeric_limits<float>::infinity();
-  const double a = std::sqrt(static_cast<double>(fastest2));                                 // 1/s
-  const double b = 0.25 * static_cast<double>(world.gravity().norm()) / smallest;           // 1/s^2
+  return static_cast<float>(longest_pass_within(std::sqrt(static_cast<double>(fastest2)),
+                                                static_cast<double>(world.gravity().norm()) / smallest, margin_fraction));
+}
+
+double longest_pass_within(double speed_per_radius, double gravity_per_radius, float margin_fraction) {
+  const double a = speed_per_radius;         // 1/s
+  const double b = 0.25 * gravity_per_radius;  // 1/s^2
   const double room = static_cast<double>(margin_fraction) - kMinMarginFraction;  // radii
-  if (!std::isfinite(a)) return 0.0f;
+  if (!std::isfinite(a)) return 0.0;
   // The positive root of b h^2 + a h = room, written so that b -> 0 loses nothing.
-  const double h = 2.0 * room / (a + std::sqrt(a * a + 4.0 * b * room));
-  return static_cast<float>(h);  // infinite when a = b = 0
+  return 2.0 * room / (a + std::sqrt(a * a + 4.0 * b * room));  // infinite when a = b = 0
 }
 
 int passes_needed(float remaining, float longest) {

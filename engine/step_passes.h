@@ -47,6 +47,11 @@ inline constexpr int kMostPassesPerStep = 128;
 // nothing pulls; 0 for a non-finite velocity.
 float longest_capped_pass(const World& world, float margin_fraction = kMostMarginFraction);
 
+// The same for one sphere: the largest h with v h + g h^2 / 4 <= (margin_fraction -
+// kMinMarginFraction) r, given v / r (unit: 1/s) and g / r (unit: 1/s^2). Infinite when both are
+// 0, 0 when v / r is not finite.
+double longest_pass_within(double speed_per_radius, double gravity_per_radius, float margin_fraction);
+
 // Equal passes that `remaining` seconds need for passes within `longest` seconds, at least one;
 // a count past any int a step could take comes back as INT32_MAX.
 int passes_needed(float remaining, float longest);

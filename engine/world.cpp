@@ -124,9 +124,9 @@ World::StepWarnings World::step_warnings() const {
   for (float r : spheres.radius()) smallest = std::min(smallest, r);
   const double g = gravity_.norm();
   if (g > 0.0 && std::isfinite(smallest)) {
-    const double resting_pass = std::sqrt((kSplitMarginFraction - kMinMarginFraction) * smallest / (0.25 * g));
+    const double resting_pass = longest_pass_within(0.0, g / smallest, kSplitMarginFraction);
     // The substep a resting pile gets: dt in as many passes as resting balls need, if split.
-    const double longest_whole = std::sqrt((kMostMarginFraction - kMinMarginFraction) * smallest / (0.25 * g));
+    const double longest_whole = longest_pass_within(0.0, g / smallest, kMostMarginFraction);
     const double pile_passes = dt_ <= longest_whole ? 1.0 : std::min<double>(kMostPassesPerStep, std::ceil(dt_ / resting_pass));
     const double substep = dt_ / pile_passes / solver.substeps;
     const double gained = g * substep;  // unit: m/s

@@ -129,10 +129,10 @@ TEST(Api, ABallBuiltInCodeFallsAtGTimesT) {
   EXPECT_NEAR(sim.time(), 0.5, 1e-6);
 }
 
-TEST(Api, AKinematicCapsuleStrikesABallWithTheRestitutionFormula) {
-  // As KinematicContact (test_character_pushing.cpp), through the API: a ball at rest, no
-  // gravity, hit head-on by a capsule at 3 m/s leaves at (1 + e) x 3 m/s. The impact (3 m/s) is
-  // far above the restitution threshold (0.25 m/s), so e applies in full.
+// A ball (id 0) at rest at (0, 1, 0), and a capsule (collider 0) 0.3 m to its left closing on it
+// at 3 m/s; no gravity, restitution 0.5, no friction. `beside`, if given, is added as sphere 1.
+constexpr float kCapsuleX = -0.3f, kCapsuleRadius = 0.05f, kCapsuleSpeed = 3.0f, kBallRadius = 0.04f;
+Simulation capsule_closing_on_a_ball(const SphereSpec* beside = nullptr) {
   PitSpec pit;
   pit.half_width = 5.0f;
   pit.material = {0.5f, 0.0f};
@@ -140,17 +140,29 @@ TEST(Api, AKinematicCapsuleStrikesABallWithTheRestitutionFormula) {
   sim.set_gravity({0.0f, 0.0f, 0.0f});
   SphereSpec ball;
   ball.position = {0.0f, 1.0f, 0.0f};
-  sim.add_sphere(ball);
+  ball.radius = kBallRadius;
+  EXPECT_EQ(sim.add_sphere(ball), 0u);
+  if (beside) {
+    EXPECT_EQ(sim.add_sphere(*beside), 1u);
+  }
   ColliderSpec capsule;
   capsule.shape = ColliderSpec::Shape::Capsule;
-  capsule.a = {-0.3f, 0.9f, 0.0f};
-  capsule.b = {-0.3f, 1.1f, 0.0f};
-  capsule.radius = 0.05f;
-  capsule.velocity = {3.0f, 0.0f, 0.0f};
+  capsule.a = {kCapsuleX, 0.9f, 0.0f};
+  capsule.b = {kCapsuleX, 1.1f, 0.0f};
+  capsule.radius = kCapsuleRadius;
+  capsule.velocity = {kCapsuleSpeed, 0.0f, 0.0f};
   EXPECT_EQ(sim.add_collider(capsule), 0u);
+  return sim;
+}
+
+TEST(Api, AKinematicCapsuleStrikesABallWithTheRestitutionFormula) {
+  // As KinematicContact (test_character_pushing.cpp), through the API: a ball at rest, no
+  // gravity, hit head-on by a capsule at 3 m/s leaves at (1 + e) x 3 m/s. The impact (3 m/s) is
+  // far above the restitution threshold (0.25 m/s), so e applies in full.
+  Simulation sim = capsule_closing_on_a_ball();
   sim.step(12);
   // Float rounding of the impulse only (1e-4 relative), as the kinematic-contact test bounds it.
-  EXPECT_NEAR(sim.velocities()[0], 1.5f * 3.0f, 1e-3f);
+  EXPECT_NEAR(sim.velocities()[0], 1.5f * kCapsuleSpeed, 1e-3f);
   EXPECT_NEAR(sim.velocities()[1], 0.0f, 1e-4f);
   // A stopped collider strikes nothing more.
   sim.set_collider_velocity(0, {0.0f, 0.0f, 0.0f});
@@ -163,40 +175,25 @@ TEST(Api, AFastBallBesideAKinematicColliderLeavesTheColliderSweepingTheStep) {
   // step_passes.h). A world with colliders takes whole steps: split into passes, this capsule,
   // which the API moves only after the step, stood still through every pass and then jumped
   // the whole step, 1 r into the resting ball (tried: issue 40's closing note).
-  PitSpec pit;
-  pit.half_width = 5.0f;
-  pit.material = {0.5f, 0.0f};
-  Simulation sim(pit);
-  sim.set_gravity({0.0f, 0.0f, 0.0f});
-  SphereSpec ball;
-  ball.position = {0.0f, 1.0f, 0.0f};
-  const std::uint32_t ball_id = sim.add_sphere(ball);
   SphereSpec bullet;
   bullet.position = {-3.0f, 1.0f, -4.0f};
   bullet.velocity = {0.0f, 0.0f, 200.0f};
-  sim.add_sphere(bullet);
-  ColliderSpec capsule;
-  capsule.shape = ColliderSpec::Shape::Capsule;
-  capsule.a = {-0.3f, 0.9f, 0.0f};
-  capsule.b = {-0.3f, 1.1f, 0.0f};
-  capsule.radius = 0.05f;
-  capsule.velocity = {3.0f, 0.0f, 0.0f};
-  sim.add_collider(capsule);
-  // Rows are sorted by grid cell; the ball's row is the one with its id.
+  Simulation sim = capsule_closing_on_a_ball(&bullet);
+  // Rows are sorted by grid cell; a sphere's row is the one with its id.
   auto row_of = [&](std::uint32_t id) {
     const auto ids = sim.sphere_ids();
     return static_cast<std::size_t>(std::find(ids.begin(), ids.end(), id) - ids.begin());
   };
   for (int step = 1; step <= 12; ++step) {
     sim.step(1);
-    const float axis_x = -0.3f + 3.0f * static_cast<float>(step) * sim.dt();
-    const float gap = sim.positions()[3 * row_of(ball_id)] - axis_x - capsule.radius - ball.radius;
-    EXPECT_GT(gap, -1e-4f * ball.radius) << "step " << step << ": the ball is inside the capsule";
+    const float axis_x = kCapsuleX + kCapsuleSpeed * static_cast<float>(step) * sim.dt();
+    const float gap = sim.positions()[3 * row_of(0)] - axis_x - kCapsuleRadius - kBallRadius;
+    EXPECT_GT(gap, -1e-4f * kBallRadius) << "step " << step << ": the ball is inside the capsule";
   }
   // Still far faster than a margin within the cap covers (5.8 m/s at r = 0.04 m, 1/60 s): every
   // step would have been split.
-  EXPECT_GT(std::abs(sim.velocities()[3 * row_of(1 - ball_id) + 2]), 10.0f);
-  EXPECT_NEAR(sim.velocities()[3 * row_of(ball_id)], 1.5f * 3.0f, 1e-3f);
+  EXPECT_GT(std::abs(sim.velocities()[3 * row_of(1) + 2]), 10.0f);
+  EXPECT_NEAR(sim.velocities()[3 * row_of(0)], 1.5f * kCapsuleSpeed, 1e-3f);
 }
 
 TEST(Api, ASavedStateResumesToTheHashOfARunThatNeverStopped) {
