@@ -1,5 +1,7 @@
 #include "systems/collider_guard.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -179,8 +181,9 @@ SegmentParameters closest_segment_parameters(const Vec3& p0, const Vec3& p1, con
   return {s, t};
 }
 
-void guard_colliders(const ColliderTable& colliders, float dt, std::span<const Vec3> start, SolverBodies& bodies) {
-  if (colliders.size() == 0) return;
+std::vector<std::uint32_t> guard_colliders(const ColliderTable& colliders, float dt, std::span<const Vec3> start,
+                                           SolverBodies& bodies) {
+  if (colliders.size() == 0) return {};
   const std::vector<Capsule> capsules = capsules_of(colliders, dt);
   Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max()), hi = -lo;
   for (const Capsule& c : capsules) {
@@ -188,6 +191,8 @@ void guard_colliders(const ColliderTable& colliders, float dt, std::span<const V
     hi = hi.cwiseMax(c.hi);
   }
   const std::int64_t rows = static_cast<std::int64_t>(bodies.rows);
+  // Each thread's rows are one ascending run (static schedule), listed in thread order.
+  std::vector<std::vector<std::uint32_t>> moved_by(static_cast<std::size_t>(omp_get_max_threads()));
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < rows; ++i) {
     SolverBody& body = bodies.body[i];
@@ -227,9 +232,13 @@ void guard_colliders(const ColliderTable& colliders, float dt, std::span<const V
         }
       }
       if (!moved) break;
+      if (pass == 0) moved_by[static_cast<std::size_t>(omp_get_thread_num())].push_back(static_cast<std::uint32_t>(i));
       if (pass == kGuardPasses - 1) squeeze_out(capsules, x, v);
     }
   }
+  std::vector<std::uint32_t> moved;
+  for (const std::vector<std::uint32_t>& rows_of_thread : moved_by) moved.insert(moved.end(), rows_of_thread.begin(), rows_of_thread.end());
+  return moved;
 }
 
 }  // namespace ballpit

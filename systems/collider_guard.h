@@ -21,7 +21,9 @@
 // this one leaves none deeper than 1e-4 r (profiling/reports/character.md).
 #pragma once
 
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "engine/collider_table.h"
 #include "engine/math.h"
@@ -31,7 +33,10 @@ namespace ballpit {
 
 // `start`: each sphere's position when the step began; `bodies`: where the substeps left them
 // (position, radius, velocity), corrected in place. Colliders are posed at `dt` into the step.
-void guard_colliders(const ColliderTable& colliders, float dt, std::span<const Vec3> start, SolverBodies& bodies);
+// Returns the rows it moved, in ascending order (a sleeper among them is stored back although
+// the solver stores only the awake rows).
+std::vector<std::uint32_t> guard_colliders(const ColliderTable& colliders, float dt, std::span<const Vec3> start,
+                                           SolverBodies& bodies);
 
 // Closest points of segments [p0, p1] and [q0, q1], as their parameters (s, t) in [0, 1].
 struct SegmentParameters {

@@ -78,14 +78,18 @@ void choose_extent(SpatialGrid& g, const Bounds& b, std::size_t n) {
 
 }  // namespace
 
-void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> r, GridScratch& s) {
+void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> r, GridScratch& s,
+                std::span<const std::uint8_t> asleep) {
   const std::size_t n = p.size();
   choose_extent(g, measure(p, r), n);
   const std::size_t cells = g.cell_count();
+  // Sleepers sort by key cells + cell, after every awake row.
+  g.split = asleep.size() == n && any_asleep(asleep);
+  const std::size_t slots = g.split ? 2 * cells : cells;
   const int threads = omp_get_max_threads();
   s.keys.resize(n);
-  s.histograms.assign(static_cast<std::size_t>(threads) * cells, 0);
-  g.cell_start.assign(cells + 1, 0);
+  s.histograms.assign(static_cast<std::size_t>(threads) * slots, 0);
+  g.cell_start.assign(slots + 1, 0);
   g.cell_of_row.resize(n);
   g.new_to_old.resize(n);
   const std::int64_t count = static_cast<std::int64_t>(n);
@@ -97,19 +101,20 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
     const int team = omp_get_num_threads();
     // The same contiguous chunk per thread in both passes keeps the scatter stable.
     const std::int64_t begin = count * t / team, end = count * (t + 1) / team;
-    std::uint32_t* hist = s.histograms.data() + static_cast<std::size_t>(t) * cells;
+    std::uint32_t* hist = s.histograms.data() + static_cast<std::size_t>(t) * slots;
     for (std::int64_t i = begin; i < end; ++i) {
       std::uint32_t k = g.key(g.clamp_x(p[i].x()), g.clamp_y(p[i].y()), g.clamp_z(p[i].z()));
+      if (g.split && asleep[i]) k += static_cast<std::uint32_t>(cells);
       s.keys[i] = k;
       ++hist[k];
     }
 #pragma omp barrier
-    // Prefix sum over (cell, thread): each thread totals its range of cells, one thread scans
+    // Prefix sum over (slot, thread): each thread totals its range of slots, one thread scans
     // the range totals, then each thread turns its range into scatter cursors.
-    const std::size_t c0 = cells * t / team, c1 = cells * (t + 1) / team;
+    const std::size_t c0 = slots * t / team, c1 = slots * (t + 1) / team;
     std::uint32_t range_total = 0;
     for (std::size_t k = c0; k < c1; ++k)
-      for (int u = 0; u < team; ++u) range_total += s.histograms[static_cast<std::size_t>(u) * cells + k];
+      for (int u = 0; u < team; ++u) range_total += s.histograms[static_cast<std::size_t>(u) * slots + k];
     range_offset[t] = range_total;
 #pragma omp barrier
 #pragma omp single
@@ -125,9 +130,9 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
     for (std::size_t k = c0; k < c1; ++k) {
       g.cell_start[k] = offset;
       for (int u = 0; u < team; ++u) {
-        std::uint32_t& h = s.histograms[static_cast<std::size_t>(u) * cells + k];
+        std::uint32_t& h = s.histograms[static_cast<std::size_t>(u) * slots + k];
         std::uint32_t c = h;
-        h = offset;  // histogram becomes the scatter cursor of thread u in cell k
+        h = offset;  // histogram becomes the scatter cursor of thread u in slot k
         offset += c;
       }
     }
@@ -136,10 +141,10 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
       std::uint32_t k = s.keys[i];
       std::uint32_t dst = hist[k]++;
       g.new_to_old[dst] = static_cast<std::uint32_t>(i);
-      g.cell_of_row[dst] = k;
+      g.cell_of_row[dst] = k >= cells ? k - static_cast<std::uint32_t>(cells) : k;
     }
   }
-  g.cell_start[cells] = static_cast<std::uint32_t>(n);
+  g.cell_start[slots] = static_cast<std::uint32_t>(n);
 }
 
 std::vector<MemoryItem> GridSystem::held() const {
@@ -169,7 +174,7 @@ void GridSystem::run(World& world) {
     return;
   }
   world.grid.kept_order = false;
-  build_grid(world.grid, world.spheres.position(), world.spheres.radius(), scratch_);
+  build_grid(world.grid, world.spheres.position(), world.spheres.radius(), scratch_, world.spheres.asleep());
   world.spheres.permute(world.grid.new_to_old);
 }
 

@@ -1,7 +1,8 @@
 // Grid broadphase: rebuilt every step by a parallel counting sort of sphere rows by cell key
 // (per-thread histograms, a prefix sum, a stable scatter), then the sphere table is permuted
-// into that order so each cell, and each x slab of cells, is a contiguous row range.
-// Reads: positions, radii. Writes: every sphere column (the permutation) and the grid.
+// into that order so each cell, and each x slab of cells, is a contiguous row range. Sleepers
+// sort after every awake row, by cell too (engine/spatial_grid.h).
+// Reads: positions, radii, sleep state. Writes: every sphere column (the permutation) and the grid.
 // Decision: the grid spans the spheres' bounding box with a capped cell count, not the pit,
 // so memory is O(N) however tall the walls are.
 #pragma once
@@ -27,10 +28,11 @@ inline constexpr float kSlowMarginFraction = 0.25f;
 // Cells allowed per sphere before the grid's extent is capped (clamped).
 inline constexpr std::size_t kCellsPerSphere = 2;
 
-// Sorts rows by cell: fills grid.cell_start, grid.cell_of_row (in sorted order) and
-// grid.new_to_old. Stable, so the order is the same for any thread count.
+// Sorts rows by cell, sleepers (asleep[i] != 0; none if `asleep` is empty) after the awake
+// rows: fills grid.cell_start, grid.cell_of_row (in sorted order) and grid.new_to_old. Stable,
+// so the order is the same for any thread count.
 void build_grid(SpatialGrid& grid, std::span<const Vec3> positions, std::span<const float> radii,
-                GridScratch& scratch);
+                GridScratch& scratch, std::span<const std::uint8_t> asleep = {});
 
 class GridSystem : public System {
  public:

@@ -11,7 +11,9 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <string>
 
+#include "engine/error.h"
 #include "engine/memory_use.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
@@ -151,8 +153,6 @@ struct SlabSearch {
   const ContactSet& previous;                  // warm-start cache of the last step
   std::span<const std::uint32_t> new_to_old;
   std::uint8_t* piled;                         // ContactSet::piled of this step
-  bool sleepers;                               // some row sleeps: awake rows look back for them
-  const std::uint8_t* sleeper_in_cell;         // NarrowphaseScratch::sleeper_in_cell, when sleepers
 
   // A pair that carried load marks both its rows as piled. The partner may lie in the next slab,
   // whose rows another thread marks too, so the mark is an atomic store (on x86 a plain one).
@@ -163,9 +163,12 @@ struct SlabSearch {
   }
 
   // Is row j in the slab or the next one? Rows are sorted by cell key and a slab is a key range,
-  // so it is a row range: two lookups instead of a division of j's key per pair.
+  // so it is a row range (one among the awake rows, one among the sleepers): two lookups
+  // instead of a division of j's key per pair.
   bool local(std::uint32_t j, int slab) const {
-    return j >= grid.slab_row_begin(slab) && j < grid.slab_row_begin(std::min(slab + 2, grid.nx));
+    const int next = std::min(slab + 2, grid.nx);
+    if (j < grid.awake_rows()) return j >= grid.slab_row_begin(slab) && j < grid.slab_row_begin(next);
+    return j >= grid.slab_sleeper_begin(slab) && j < grid.slab_sleeper_begin(next);
   }
 
   // Last step's entries of the sphere that was at `old_row`.
@@ -235,11 +238,14 @@ struct SlabSearch {
     return (x[j] - x[i]).squaredNorm() < reach * reach;
   }
 
-  // Does the slow sphere i own the pair with j? Fast spheres record their own pairs.
-  bool slow_owns(std::uint32_t i, std::uint32_t j) const { return j > i && !fast(j); }
+  bool asleep(std::uint32_t j) const { return scratch.flags[j] & kAsleepRow; }
 
-  // A fast sphere owns pairs with slow spheres, and with fast ones of smaller margin (ties by
-  // row), so exactly one side records each pair.
+  // Does the slow awake sphere i own the pair with j? Fast spheres record their own pairs, and
+  // sleepers none.
+  bool slow_owns(std::uint32_t i, std::uint32_t j) const { return (j > i || asleep(j)) && !fast(j); }
+
+  // A fast sphere owns pairs with slow spheres (sleepers are slow), and with fast ones of
+  // smaller margin (ties by row), so exactly one side records each pair.
   bool fast_owns(std::uint32_t i, std::uint32_t j) const {
     if (i == j) return false;
     if (!fast(j)) return true;
@@ -256,11 +262,9 @@ struct SlabSearch {
     }
   }
 
-  // The flags that rule out a partner of row i before the distance test: asleep if i sleeps
-  // too, and for a slow sphere a fast partner, which records the pair itself (fast_owns).
-  std::uint32_t skipped_partners(std::uint32_t i) const {
-    return (fast(i) ? 0u : kFastRow) | (scratch.flags[i] & kAsleepRow);
-  }
+  // The flags that rule out a partner of awake row i before the distance test: for a slow
+  // sphere a fast partner, which records the pair itself (fast_owns).
+  std::uint32_t skipped_partners(std::uint32_t i) const { return fast(i) ? 0u : kFastRow; }
 
   // Sphere i's side of the candidate test, in every lane, passing no row whose flags meet `skip`.
 #if BALLPIT_NARROWPHASE_SSE
@@ -331,22 +335,30 @@ struct SlabSearch {
   }
 
   // Cells (cx, y0..y1, cz), y clipped to the grid: consecutive keys, so one row range, in the
-  // order the cells one by one would give them. Empty outside the grid.
-  RowRange column(int cx, int y0, int y1, int cz) const {
+  // order the cells one by one would give them. Empty outside the grid. Awake rows, or with
+  // `sleeping` the sleepers' (none unless the grid is split).
+  RowRange column(int cx, int y0, int y1, int cz, bool sleeping = false) const {
     if (cx < 0 || cx >= grid.nx || cz < 0 || cz >= grid.nz) return {};
+    if (sleeping && !grid.split) return {};
     y0 = std::max(y0, 0);
     y1 = std::min(y1, grid.ny - 1);
     if (y0 > y1) return {};
-    return {grid.cell_start[grid.key(cx, y0, cz)], grid.cell_start[grid.key(cx, y1, cz) + 1]};
+    const std::size_t first = sleeping ? grid.cell_count() : 0;
+    return {grid.cell_start[first + grid.key(cx, y0, cz)], grid.cell_start[first + grid.key(cx, y1, cz) + 1]};
   }
 
-  // The spheres of cell (cx, cy, cz) against the forward half of its 27-cell neighbourhood:
-  // cells with a larger key, plus the own cell (partners of larger row only). Keys grow with y,
-  // then z, then x, so rows do too, and the cells of one (x, z) column that differ in y are one
-  // range of rows: five ranges, in row order, the same for every slow sphere of the cell. The
-  // rows that pass are gathered in `passed` (room for every candidate of the cell, plus a
-  // kLanes - 1 write past the last), and their contacts made after the whole search, in one
-  // loop: both loops then run without branches on the test.
+  // The awake spheres of cell (cx, cy, cz) against the forward half of its 27-cell
+  // neighbourhood: cells with a larger key, plus the own cell (partners of larger row only).
+  // Keys grow with y, then z, then x, so rows do too, and the cells of one (x, z) column that
+  // differ in y are one range of rows: five ranges, in row order, the same for every slow
+  // sphere of the cell. Its pairs with the sleepers of the whole neighbourhood come first
+  // (sleeping_pairs): a sleeper is fixed, a support like the floor, and solved before the awake
+  // pairs its support passes up through, as planes are (systems/solver.cpp). After them, a
+  // region woken in a sleeping pile sagged more in its first step (fastest ball 0.063 m/s
+  // against 0.048, tests/test_sleeping.cpp: ARegionWokenByAMover...). The rows
+  // that pass are gathered in `passed` (room for every candidate of the cell, plus a kLanes - 1
+  // write past the last), and their contacts made after the whole search, in one loop: both
+  // loops then run without branches on the test.
   void cell_pairs(const Columns& c, int cx, int cy, int cz, RowRange cell, int slab, std::vector<std::uint32_t>& passed,
                   SlabContacts& out) const {
     const RowRange forward[5] = {column(cx, cy, cy + 1, cz), column(cx, cy - 1, cy + 1, cz + 1),
@@ -355,50 +367,38 @@ struct SlabSearch {
     std::size_t candidates = forward[0].end - cell.begin;
     for (int k = 1; k < 5; ++k) candidates += forward[k].end - forward[k].begin;
     if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
-    const bool look_back = sleepers && sleeper_behind(cx, cy, cz);
     for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
-      if (scratch.flags[i] & kAsleepRow) continue;  // an awake partner finds the pair
       if (fast(i)) {
         wide_pairs(c, i, cx, cy, cz, slab, passed, out);
         continue;
       }
+      if (grid.split) sleeping_pairs(c, i, cx, cy, cz, slab, passed, out);
       const Probe p = probe(c, i, skipped_partners(i));
       // The own cell's rows up to i belong to pairs that earlier rows own.
       std::uint32_t* end = gather(c, p, {i + 1, forward[0].end}, passed.data());
       for (int k = 1; k < 5; ++k) end = gather(c, p, forward[k], end);
       emit(generator(i), passed.data(), end, out);
-      if (look_back) sleeping_pairs(c, i, cx, cy, cz, slab, passed, out);
     }
   }
 
-  // Does a cell of the backward half of (cx, cy, cz)'s neighbourhood, or the cell itself, hold a
-  // sleeper? The cells sleeping_pairs searches.
-  bool sleeper_behind(int cx, int cy, int cz) const {
-    auto any = [&](int ax, int y0, int y1, int az) {
-      if (ax < 0 || az < 0 || az >= grid.nz) return false;
-      for (int ay = std::max(y0, 0); ay <= std::min(y1, grid.ny - 1); ++ay)
-        if (sleeper_in_cell[grid.key(ax, ay, az)]) return true;
-      return false;
-    };
-    return any(cx, cy - 1, cy, cz) || any(cx, cy - 1, cy + 1, cz - 1) || any(cx - 1, cy - 1, cy + 1, cz - 1) ||
-           any(cx - 1, cy - 1, cy + 1, cz) || any(cx - 1, cy - 1, cy + 1, cz + 1);
-  }
-
-  // A sleeper owns no pair, so the slow awake sphere i also owns its pairs with the sleepers of
-  // the backward half of its neighbourhood (the mirror of cell_pairs' forward half: own cell's
-  // rows before i, and cells of smaller key). Those lie in this slab or the one before, so a
-  // pair with the one before goes to the serial list (add_pair).
+  // A sleeper owns no pair, so the slow awake sphere i owns its pairs with the sleepers of its
+  // whole neighbourhood: nine (x, z) columns of three cells, in row order. Those lie in this
+  // slab, the next or the one before; a pair with the one before goes to the serial list
+  // (add_pair).
   void sleeping_pairs(const Columns& c, std::uint32_t i, int cx, int cy, int cz, int slab,
                       std::vector<std::uint32_t>& passed, SlabContacts& out) const {
-    const RowRange backward[5] = {column(cx - 1, cy - 1, cy + 1, cz - 1), column(cx - 1, cy - 1, cy + 1, cz),
-                                  column(cx - 1, cy - 1, cy + 1, cz + 1), column(cx, cy - 1, cy + 1, cz - 1),
-                                  {column(cx, cy - 1, cy, cz).begin, i}};
+    RowRange around[9];
     std::size_t candidates = 0;
-    for (const RowRange& rows : backward) candidates += rows.end - rows.begin;
+    for (int dx = -1, k = 0; dx <= 1; ++dx)
+      for (int dz = -1; dz <= 1; ++dz, ++k) {
+        around[k] = column(cx + dx, cy - 1, cy + 1, cz + dz, true);
+        candidates += around[k].end - around[k].begin;
+      }
+    if (candidates == 0) return;
     if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
     const Probe p = probe(c, i, kAwakeRow);
     std::uint32_t* end = passed.data();
-    for (const RowRange& rows : backward) end = gather(c, p, rows, end);
+    for (const RowRange& rows : around) end = gather(c, p, rows, end);
     for (const std::uint32_t* j = passed.data(); j < end; ++j) add_pair(i, *j, slab, out);
   }
 
@@ -419,17 +419,18 @@ struct SlabSearch {
     int z0 = std::max(cz - span, 0), z1 = std::min(cz + span, grid.nz - 1);
     int y0 = std::max(cy - span, 0), y1 = std::min(cy + span, grid.ny - 1);
     const Probe p = probe(c, i, skipped_partners(i));
-    for (int ax = x0; ax <= x1; ++ax)
-      for (int az = z0; az <= z1; ++az) {
-        const RowRange rows = column(ax, y0, y1, az);
-        if (passed.size() < rows.end - rows.begin + kLanes) passed.resize(rows.end - rows.begin + kLanes);
-        const std::uint32_t* end = gather(c, p, rows, passed.data());
-        for (const std::uint32_t* j = passed.data(); j < end; ++j)
-          if (fast_owns(i, *j)) add_pair(i, *j, slab, out);
-      }
+    for (const bool sleeping : {false, true})
+      for (int ax = x0; ax <= x1; ++ax)
+        for (int az = z0; az <= z1; ++az) {
+          const RowRange rows = column(ax, y0, y1, az, sleeping);
+          if (passed.size() < rows.end - rows.begin + kLanes) passed.resize(rows.end - rows.begin + kLanes);
+          const std::uint32_t* end = gather(c, p, rows, passed.data());
+          for (const std::uint32_t* j = passed.data(); j < end; ++j)
+            if (fast_owns(i, *j)) add_pair(i, *j, slab, out);
+        }
   }
 
-  // Cell by cell in key order, so rows in row order.
+  // The slab's awake cells in key order, so rows in row order.
   void grid_pairs(int slab, SlabContacts& out) const {
     const Columns c{scratch.x.data(),      scratch.y.data(),      scratch.z.data(),
                     scratch.radius.data(), scratch.margin.data(), scratch.flags.data()};
@@ -454,7 +455,7 @@ std::vector<MemoryItem> NarrowphaseSystem::held() const {
   std::size_t rows = held_bytes(s.flags);
   for (const auto* column : {&s.x, &s.y, &s.z, &s.radius, &s.margin}) rows += held_bytes(*column);
   return {{"row columns", rows},
-          {"warm-start summaries", held_bytes(s.cached_by_old_row) + held_bytes(s.cached) + held_bytes(s.sleeper_in_cell)}};
+          {"warm-start summaries", held_bytes(s.cached_by_old_row) + held_bytes(s.cached)}};
 }
 
 Access NarrowphaseSystem::access() const {
@@ -530,6 +531,12 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     }
     return;
   }
+  const RowSpans spans = row_spans(asleep);
+  if (n > 0 && (grid.cell_start.size() < grid.cell_count() + 1 || grid.new_to_old.size() != n ||
+      spans.awake_end != grid.awake_rows() || spans.asleep_begin != grid.awake_rows()))
+    throw Error("narrowphase: the grid was built for other rows or another sleep state than the sphere table's (" +
+                std::to_string(n) + " rows, " + std::to_string(spans.awake_end) +
+                " awake first); the grid must run after the wake system and before the narrowphase");
   SlabSearch search{grid,
                     x,
                     r,
@@ -540,19 +547,13 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
                     mc,
                     contacts,
                     grid.new_to_old,
-                    contacts.piled.data(),
-                    any_asleep(asleep),
-                    nullptr};
+                    contacts.piled.data()};
   const bool naive = world.solver.narrowphase == NarrowphaseMode::Naive;
 
   // Summaries of last step's cache entries, made in the cache's own (old row) order so the
   // entries are read straight through, then gathered into this step's rows; then the search.
   // One team does all three, with a barrier after each of the first two (each parallel region
   // wakes the team, which costs tens of microseconds where threads wait passively).
-  if (search.sleepers) {
-    scratch.sleeper_in_cell.assign(grid.cell_count(), 0);
-    search.sleeper_in_cell = scratch.sleeper_in_cell.data();
-  }
   const ContactSet& previous = world.contacts;
   const std::int64_t old_rows = previous.warm_begin.empty() ? 0 : static_cast<std::int64_t>(previous.warm_begin.size() - 1);
   scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
@@ -582,10 +583,6 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : kAwakeRow);
       const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
       scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
-      // Rows of one cell are consecutive, and threads share only the cells at their seams,
-      // where both store the same 1.
-      if (search.sleepers && asleep[i])
-        std::atomic_ref<std::uint8_t>(scratch.sleeper_in_cell[grid.cell_of_row[i]]).store(1, std::memory_order_relaxed);
     }  // and the loop's barrier
 
     // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each
@@ -602,11 +599,10 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       } else {
         search.grid_pairs(s, out);
       }
+      // The slab's awake rows. A sleeper is held where it fell asleep: its floor and walls are
+      // not solved, and keep their impulses in the cache for when it wakes (systems/solver.cpp);
+      // a collider that moves at it wakes it first (systems/sleeping.h).
       for (std::uint32_t i = begin; i < end; ++i) {
-        // A sleeper is held where it fell asleep: its floor and walls are not solved, and keep
-        // their impulses in the cache for when it wakes (systems/solver.cpp); a collider that
-        // moves at it wakes it first (systems/sleeping.h).
-        if (asleep[i]) continue;
         // Copies: the lists' stores would otherwise force a reload per plane.
         const Vec3 xi = x[i];
         // The row's pair margin, made above from the same speed (speculative_margin).

@@ -34,13 +34,12 @@ struct NarrowphaseScratch {
   // they name, so a clear bit proves a pair absent (narrowphase.cpp). Made by last step's row
   // (the cache's order), then gathered into this step's.
   Column<std::uint32_t> cached_by_old_row, cached;
-  // Per grid cell: a sphere in it sleeps. Only awake spheres near a sleeper look back for
-  // sleeping partners (narrowphase.cpp), and most awake spheres are nowhere near one.
-  std::vector<std::uint8_t> sleeper_in_cell;
 };
 
-// Fills world.contacts from the current (grid-sorted) rows. Deterministic for any thread
-// count: each slab's lists depend only on its rows.
+// Fills world.contacts from the current (grid-sorted) rows: an awake sphere owns its pairs with
+// sleepers, which it finds in the grid's sleeper cells (engine/spatial_grid.h); a sleeper's
+// row is never searched from. Deterministic for any thread count: each slab's lists depend
+// only on its rows.
 void find_contacts(World& world, NarrowphaseScratch& scratch);
 
 class NarrowphaseSystem : public System {

@@ -57,7 +57,7 @@ void mark_motion(const World& world, const SleepRegions& regions, std::vector<st
   const float dt = world.step();
   const float wake2 = world.solver.wake_speed * world.solver.wake_speed;
   const float reach = largest_radius(world) + world.gravity().norm() * dt * dt;
-  const std::int64_t n = static_cast<std::int64_t>(spheres.size());
+  const std::int64_t n = static_cast<std::int64_t>(row_spans(asleep).awake_end);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     if (asleep[i] || !(v[i].squaredNorm() > wake2)) continue;  // NaN speeds are the guard's
@@ -131,10 +131,11 @@ std::size_t wake_marked(World& world, const SleepRegions& regions, const std::ve
   auto x = spheres.position();
   auto asleep = spheres.mut_asleep();
   auto still = spheres.mut_still_time();
+  const std::int64_t first = static_cast<std::int64_t>(row_spans(asleep).asleep_begin);
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
   std::size_t woken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : woken)
-  for (std::int64_t i = 0; i < n; ++i)
+  for (std::int64_t i = first; i < n; ++i)
     if (asleep[i] && marks[regions.of(x[i])]) {
       asleep[i] = 0;
       still[i] = 0.0f;
@@ -186,7 +187,9 @@ void update_sleep(World& world) {
   auto w = angular ? spheres.mut_angular_velocity() : std::span<Vec3>{};
   const float dt = world.step();
   const float sleep2 = s.sleep_speed * s.sleep_speed;
-  const std::int64_t n = static_cast<std::int64_t>(spheres.size());
+  // The rows the grid sorted awake (systems/sleep_regions.h: RowSpans); the sleepers after them.
+  const RowSpans spans = row_spans(spheres.asleep());
+  std::int64_t n = static_cast<std::int64_t>(spans.awake_end);
 
   // The clock: the regions matter for falling asleep only once a sphere has been still for
   // sleep_time.
@@ -208,10 +211,12 @@ void update_sleep(World& world) {
   const bool sleepers = any_asleep(spheres.asleep());
   const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
   if (sleepers && requests.size() == spheres.size())
-    for (std::size_t i = 0; i < requests.size(); ++i)
+    for (std::size_t i = spans.asleep_begin; i < requests.size(); ++i)
       if (requests[i]) struck[regions.of(x[i])] = 1;
   if (sleepers || ready) mark_contacts(world, regions, struck, ready ? &restless : nullptr);
-  if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end()) wake_marked(world, regions, struck);
+  // Spheres it wakes are awake rows among the sleepers': the passes below take every row then.
+  if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end() && wake_marked(world, regions, struck) > 0)
+    n = static_cast<std::int64_t>(spheres.size());
   if (!ready) return;
 
   // Restless regions: those with an awake sphere not yet still for sleep_time, those that

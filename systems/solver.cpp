@@ -64,6 +64,7 @@ V3<float> v3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 void size_bodies(const SphereTable& spheres, SolverBodies& bodies) {
   const std::size_t n = spheres.size();
   bodies.rows = n;
+  bodies.awake_rows = row_spans(spheres.asleep()).awake_end;
   bodies.body.resize(n + SolverBodies::kPadRows);
   for (std::size_t k = n; k < n + SolverBodies::kPadRows; ++k) {
     bodies.body[k] = {{}, {}, {-1e6f - 4.0f * static_cast<float>(k - n), -1e6f, -1e6f, 1.0f}, {}};
@@ -114,15 +115,16 @@ Vec3 kept_in_pit(const Pit& pit, Vec3 x, float radius) {
   return x;
 }
 
-void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spheres) {
+// The awake rows, and the sleepers in `guarded` (rows the collider guard moved): no pass moves
+// any other sleeper.
+void store_bodies(const SolverBodies& bodies, std::span<const std::uint32_t> guarded, const Pit& pit,
+                  SphereTable& spheres) {
   auto x = spheres.mut_position();
   auto v = spheres.mut_velocity();
   auto r = spheres.radius();
   const bool angular = spheres.has_angular();
   auto w = angular ? spheres.mut_angular_velocity() : std::span<Vec3>{};
-  const std::int64_t rows = static_cast<std::int64_t>(bodies.rows);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < rows; ++i) {
+  auto store = [&](std::size_t i) {
     const Quad &p = bodies.body[i].position, &u = bodies.body[i].velocity;
     x[i] = kept_in_pit(pit, Vec3(p.x, p.y, p.z), p.w);
     v[i] = Vec3(u.x, u.y, u.z);
@@ -130,7 +132,12 @@ void store_bodies(const SolverBodies& bodies, const Pit& pit, SphereTable& spher
       const Quad& s = bodies.body[i].spin;
       w[i] = Vec3(s.x / r[i], s.y / r[i], s.z / r[i]);
     }
-  }
+  };
+  const std::int64_t rows = static_cast<std::int64_t>(bodies.awake_rows);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < rows; ++i) store(static_cast<std::size_t>(i));
+  for (std::uint32_t i : guarded)
+    if (i >= bodies.awake_rows) store(i);
 }
 
 // What the threads that run the substeps share (solve_contacts).
@@ -293,7 +300,7 @@ struct Step {
     const bool by_group = !scratch.even_group_rows.empty();
     if constexpr (pass != ContactPass::Solve) {
       if (!by_group) {
-        const auto [first, last] = equal_share(static_cast<int>(scratch.bodies.rows));
+        const auto [first, last] = equal_share(static_cast<int>(scratch.bodies.awake_rows));
         integrate_rows<pass>(static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(last));
 #pragma omp barrier
       }
@@ -399,11 +406,11 @@ void group_slabs(World& world, SolverScratch& scratch) {
       group.meets_first = group_of[static_cast<std::size_t>(before)];
       group.meets_last = group_of[static_cast<std::size_t>(after)] + 1;
     }
-  // The even groups' rows, when the slabs are the grid's x slabs (engine/contact_set.h).
+  // The even groups' awake rows, when the slabs are the grid's x slabs (engine/contact_set.h).
   std::vector<std::uint32_t>& rows = scratch.even_group_rows;
   rows.clear();
   const SpatialGrid& grid = world.grid;
-  const std::size_t n = scratch.bodies.rows;
+  const std::size_t n = scratch.bodies.awake_rows;
   if (!scratch.integrate_in_sweeps || count == 0 || grid.nx != count ||
       grid.cell_start.size() != grid.cell_count() + 1 || grid.slab_row_begin(count) != n)
     return;
@@ -544,12 +551,14 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
       if (j != SphereTable::kNoRow && asleep[j]) f(e);
     }
   };
+  // Sleepers' rows: those from the first sleeper on (systems/sleep_regions.h).
+  const std::int64_t first_sleeper = static_cast<std::int64_t>(row_spans(asleep).asleep_begin);
   const std::int64_t rows = static_cast<std::int64_t>(n);
 
   each([&](std::uint32_t a, std::uint32_t, float, const Vec3&) { ++cs.warm_begin[a + 1]; });
   if (keep) {
 #pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < rows; ++i)
+    for (std::int64_t i = first_sleeper; i < rows; ++i)
       each_kept(static_cast<std::uint32_t>(i), [&](const WarmStartEntry&) { ++cs.warm_begin[i + 1]; });
   }
   for (std::size_t i = 0; i < n; ++i) cs.warm_begin[i + 1] += cs.warm_begin[i];
@@ -561,7 +570,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
   });
   if (keep) {
 #pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < rows; ++i)
+    for (std::int64_t i = first_sleeper; i < rows; ++i)
       each_kept(static_cast<std::uint32_t>(i), [&](const WarmStartEntry& e) { cs.warm[cursor[i]++] = e; });
   }
 }
@@ -613,7 +622,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   }
 
   load_and_pack(world, scratch);
-  const bool sleepers = std::any_of(spheres.asleep().begin(), spheres.asleep().end(), [](std::uint8_t s) { return s != 0; });
+  const bool sleepers = any_asleep(spheres.asleep());
   world.contacts.wake_requests.assign(rows, 0);
 
   Step step{world, scratch, scratch.kernels ? *scratch.kernels : batch_kernels(), spheres.has_angular(), {},
@@ -642,8 +651,9 @@ void solve_contacts(World& world, SolverScratch& scratch) {
     step.sweep<ContactPass::Relax>(sub);
     step.args.frames_current = settings.keep_pair_frames && !team_state.shifted[static_cast<std::size_t>(sub)].load(std::memory_order_relaxed);
   }
-  guard_colliders(world.colliders, world.step(), spheres.position(), scratch.bodies);  // before the positions are stored
-  store_bodies(scratch.bodies, world.pit, spheres);
+  const std::vector<std::uint32_t> guarded =
+      guard_colliders(world.colliders, world.step(), spheres.position(), scratch.bodies);  // before the positions are stored
+  store_bodies(scratch.bodies, guarded, world.pit, spheres);
   store_warm_start(world, scratch, sleepers);
 }
 

@@ -40,6 +40,9 @@ struct SolverBodies {
 
   Column<SolverBody> body;
   std::size_t rows = 0;  // spheres, not counting the padding
+  // Rows [0, awake_rows) hold every awake sphere: the rest sleep, immobile, and no pass moves
+  // or stores them (systems/sleep_regions.h: RowSpans).
+  std::size_t awake_rows = 0;
 
   // The padding bodies of lane k: far from every sphere and from each other, immobile.
   static std::uint32_t pad_a(std::size_t rows, int lane) { return static_cast<std::uint32_t>(rows + 2 * lane); }

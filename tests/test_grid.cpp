@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <random>
 
 #include "engine/spatial_grid.h"
@@ -48,6 +49,43 @@ TEST(Grid, RowsAreSortedStablyByCellAndCellRangesHoldTheirSpheres) {
       ASSERT_LT(g.new_to_old[row - 1], g.new_to_old[row]);  // stable within a cell
     }
   }
+}
+
+// Sleepers sort after every awake row, each part by cell, and the second half of cell_start
+// indexes the sleepers' cells, so a pass over the awake spheres skips the sleepers' rows whole.
+TEST(Grid, SleepersSortAfterTheAwakeRowsWithCellsOfTheirOwn) {
+  Cloud c = random_cloud(5000, 1.0f, 1.0f, 3);
+  std::vector<std::uint8_t> asleep(c.x.size());
+  for (std::size_t i = 0; i < asleep.size(); ++i) asleep[i] = (i % 7) < 4;
+  const std::size_t awake = static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{0}));
+  SpatialGrid g;
+  GridScratch scratch;
+  build_grid(g, c.x, c.r, scratch, asleep);
+  ASSERT_TRUE(g.split);
+  ASSERT_EQ(g.awake_rows(), awake);
+  ASSERT_EQ(g.cell_start.size(), 2 * g.cell_count() + 1);
+  EXPECT_EQ(g.slab_row_begin(g.nx), awake);
+  EXPECT_EQ(g.slab_sleeper_begin(0), awake);
+  EXPECT_EQ(g.slab_sleeper_begin(g.nx), c.x.size());
+  for (std::size_t row = 0; row < c.x.size(); ++row) {
+    const std::uint32_t old = g.new_to_old[row];
+    const bool sleeps = asleep[old] != 0;
+    ASSERT_EQ(sleeps, row >= awake) << "row " << row;
+    const Vec3& p = c.x[old];
+    const std::uint32_t key = g.key(g.clamp_x(p.x()), g.clamp_y(p.y()), g.clamp_z(p.z()));
+    ASSERT_EQ(g.cell_of_row[row], key);
+    const std::size_t slot = key + (sleeps ? g.cell_count() : 0);
+    ASSERT_GE(row, g.cell_start[slot]);
+    ASSERT_LT(row, g.cell_start[slot + 1]);
+    if (row > 0 && row != awake && g.cell_of_row[row - 1] == key) {
+      ASSERT_LT(g.new_to_old[row - 1], old);  // stable within a cell
+    }
+  }
+  // Without sleepers the grid is not split, and one index serves.
+  build_grid(g, c.x, c.r, scratch, std::vector<std::uint8_t>(c.x.size(), 0));
+  EXPECT_FALSE(g.split);
+  EXPECT_EQ(g.cell_start.size(), g.cell_count() + 1);
+  EXPECT_EQ(g.slab_sleeper_begin(0), c.x.size());
 }
 
 TEST(Grid, CellFitsTheLargestSphereAndItsMargin) {
