@@ -102,6 +102,9 @@ struct SolverScratch {
   // entries with each other from it).
   std::vector<std::uint32_t> previous_warm_begin;
   std::vector<WarmStartEntry> previous_warm;
+  // The sleepers' kept entries, each thread's in its own list, and how many each row keeps.
+  std::vector<std::vector<WarmStartEntry>> kept_by_thread;
+  std::vector<std::uint32_t> kept_count;
 };
 
 // What the scratch holds: bodies, batches, the groups' lists, the last step's warm-start cache.
