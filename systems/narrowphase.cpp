@@ -364,7 +364,8 @@ struct SlabSearch {
     const RowRange forward[5] = {column(cx, cy, cy + 1, cz), column(cx, cy - 1, cy + 1, cz + 1),
                                  column(cx + 1, cy - 1, cy + 1, cz - 1), column(cx + 1, cy - 1, cy + 1, cz),
                                  column(cx + 1, cy - 1, cy + 1, cz + 1)};
-    std::size_t candidates = forward[0].end - cell.begin;
+    const SleepingNeighbours sleeping = sleeping_neighbours(cx, cy, cz);
+    std::size_t candidates = std::max<std::size_t>(forward[0].end - cell.begin, sleeping.candidates);
     for (int k = 1; k < 5; ++k) candidates += forward[k].end - forward[k].begin;
     if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
     for (std::uint32_t i = cell.begin; i < cell.end; ++i) {
@@ -372,7 +373,7 @@ struct SlabSearch {
         wide_pairs(c, i, cx, cy, cz, slab, passed, out);
         continue;
       }
-      if (grid.split) sleeping_pairs(c, i, cx, cy, cz, slab, passed, out);
+      if (sleeping.candidates) sleeping_pairs(c, i, sleeping, slab, passed, out);
       const Probe p = probe(c, i, skipped_partners(i));
       // The own cell's rows up to i belong to pairs that earlier rows own.
       std::uint32_t* end = gather(c, p, {i + 1, forward[0].end}, passed.data());
@@ -381,24 +382,32 @@ struct SlabSearch {
     }
   }
 
-  // A sleeper owns no pair, so the slow awake sphere i owns its pairs with the sleepers of its
-  // whole neighbourhood: nine (x, z) columns of three cells, in row order. Those lie in this
-  // slab, the next or the one before; a pair with the one before goes to the serial list
-  // (add_pair).
-  void sleeping_pairs(const Columns& c, std::uint32_t i, int cx, int cy, int cz, int slab,
-                      std::vector<std::uint32_t>& passed, SlabContacts& out) const {
+  // The sleepers of cell (cx, cy, cz)'s whole neighbourhood: nine (x, z) columns of three
+  // cells, in row order; the same for every sphere of the cell, and none at all for most cells
+  // of an awake crowd.
+  struct SleepingNeighbours {
     RowRange around[9];
     std::size_t candidates = 0;
+  };
+  SleepingNeighbours sleeping_neighbours(int cx, int cy, int cz) const {
+    SleepingNeighbours s;
+    if (!grid.split) return s;
     for (int dx = -1, k = 0; dx <= 1; ++dx)
       for (int dz = -1; dz <= 1; ++dz, ++k) {
-        around[k] = column(cx + dx, cy - 1, cy + 1, cz + dz, true);
-        candidates += around[k].end - around[k].begin;
+        s.around[k] = column(cx + dx, cy - 1, cy + 1, cz + dz, true);
+        s.candidates += s.around[k].end - s.around[k].begin;
       }
-    if (candidates == 0) return;
-    if (passed.size() < candidates + kLanes) passed.resize(candidates + kLanes);
+    return s;
+  }
+
+  // A sleeper owns no pair, so the slow awake sphere i owns its pairs with the sleepers of its
+  // neighbourhood. Those lie in this slab, the next or the one before; a pair with the one
+  // before goes to the serial list (add_pair).
+  void sleeping_pairs(const Columns& c, std::uint32_t i, const SleepingNeighbours& sleeping, int slab,
+                      std::vector<std::uint32_t>& passed, SlabContacts& out) const {
     const Probe p = probe(c, i, kAwakeRow);
     std::uint32_t* end = passed.data();
-    for (const RowRange& rows : around) end = gather(c, p, rows, end);
+    for (const RowRange& rows : sleeping.around) end = gather(c, p, rows, end);
     for (const std::uint32_t* j = passed.data(); j < end; ++j) add_pair(i, *j, slab, out);
   }
 
