@@ -539,21 +539,26 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
   const std::vector<WarmStartEntry>& old_entries = scratch.previous_warm;
   auto asleep = spheres.asleep();
   const bool keep = sleepers && old_row.size() == n;
+  // Sleepers' rows: those from the first sleeper on (systems/sleep_regions.h).
+  const std::int64_t first_sleeper = static_cast<std::int64_t>(row_spans(asleep).asleep_begin);
+  const std::int64_t rows = static_cast<std::int64_t>(n);
+  // Which entities sleep, by entity index: an entry names its partner by entity, and a byte of
+  // this (one per sphere, in the near caches) stands for a read of the partner's row and then of
+  // its sleep flag, two dependent misses (perf, the 100k pit-character walk on 1 thread: the
+  // row lookup was a third of the warm-start store). Zero for entities that are no sphere.
+  std::vector<std::uint8_t>& sleeps = scratch.asleep_by_entity;
+  if (keep) {
+    const std::size_t most = n ? *std::max_element(entity.begin(), entity.end()) + std::size_t{1} : 0;
+    sleeps.assign(most, 0);
+    for (std::int64_t i = first_sleeper; i < rows; ++i) sleeps[entity[i]] = asleep[i];
+  }
   auto each_kept = [&](std::uint32_t i, auto&& f) {
     if (!asleep[i] || old_row[i] + 1 >= old_begin.size()) return;
     for (std::uint32_t k = old_begin[old_row[i]]; k < old_begin[old_row[i] + 1]; ++k) {
       const WarmStartEntry& e = old_entries[k];
-      if (e.partner & kTagMask) {
-        f(e);
-        continue;
-      }
-      const std::uint32_t j = spheres.row_of_index(e.partner);
-      if (j != SphereTable::kNoRow && asleep[j]) f(e);
+      if ((e.partner & kTagMask) || (e.partner < sleeps.size() && sleeps[e.partner])) f(e);
     }
   };
-  // Sleepers' rows: those from the first sleeper on (systems/sleep_regions.h).
-  const std::int64_t first_sleeper = static_cast<std::int64_t>(row_spans(asleep).asleep_begin);
-  const std::int64_t rows = static_cast<std::int64_t>(n);
 
   each([&](std::uint32_t a, std::uint32_t, float, const Vec3&) { ++cs.warm_begin[a + 1]; });
   // The kept entries are chosen in one pass, each thread's into its own list, and copied into
@@ -605,7 +610,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
 
 std::vector<MemoryItem> solver_held(const SolverScratch& s) {
   std::size_t kept = held_bytes(s.previous_warm_begin) + held_bytes(s.previous_warm) + held_bytes(s.kept_by_thread) +
-                     held_bytes(s.kept_count);
+                     held_bytes(s.kept_count) + held_bytes(s.asleep_by_entity);
   for (const std::vector<WarmStartEntry>& k : s.kept_by_thread) kept += held_bytes(k);
   std::size_t batches = held_bytes(s.serial), lists = held_bytes(s.serial_pairs) + held_bytes(s.last_batch) +
                                                       held_bytes(s.even_group_rows);

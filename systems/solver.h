@@ -105,6 +105,7 @@ struct SolverScratch {
   // The sleepers' kept entries, each thread's in its own list, and how many each row keeps.
   std::vector<std::vector<WarmStartEntry>> kept_by_thread;
   std::vector<std::uint32_t> kept_count;
+  std::vector<std::uint8_t> asleep_by_entity;  // by entity index: the sphere sleeps
 };
 
 // What the scratch holds: bodies, batches, the groups' lists, the last step's warm-start cache.
