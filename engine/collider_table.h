@@ -7,6 +7,7 @@
 // its own axis, which is what a capsule along a bone can represent).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 
@@ -48,6 +49,9 @@ class ColliderTable {
   std::span<const float> radius() const { return read(radius_); }
   std::span<const Vec3> velocity_a() const { return read(velocity_a_); }
   std::span<const Vec3> velocity_b() const { return read(velocity_b_); }
+  // The fastest point of row k's surface: a capsule's velocity is linear along its segment, so
+  // one of its ends (unit: m/s).
+  float speed(std::size_t k) const { return std::max(velocity_a()[k].norm(), velocity_b()[k].norm()); }
   std::span<const Entity> owner() const { return read(owner_); }
   std::span<const std::uint16_t> bone() const { return read(bone_); }
   std::span<float> mut_radius() {

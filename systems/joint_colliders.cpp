@@ -183,8 +183,7 @@ ColliderMotion measure_collider_motion(const World& world) {
   const ColliderTable& c = world.colliders;
   const float dt = world.step();
   for (std::size_t k = 0; k < c.size(); ++k) {
-    out.fastest = std::max({out.fastest, static_cast<double>(c.velocity_a()[k].norm()),
-                            static_cast<double>(c.velocity_b()[k].norm())});
+    out.fastest = std::max(out.fastest, static_cast<double>(c.speed(k)));
     const float top = std::max(c.a()[k].y() + c.velocity_a()[k].y() * dt, c.b()[k].y() + c.velocity_b()[k].y() * dt);
     out.highest = std::max(out.highest, static_cast<double>(top + c.radius()[k]));
   }

@@ -507,13 +507,11 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   auto ca = colliders.a();
   auto cb = colliders.b();
   auto cr = colliders.radius();
-  auto cva = colliders.velocity_a();
-  auto cvb = colliders.velocity_b();
   std::vector<float> collider_margin(colliders.size());
   std::vector<ColliderBox> collider_box(colliders.size());
   ColliderBox all_colliders;
   for (std::size_t c = 0; c < colliders.size(); ++c) {
-    collider_margin[c] = std::max(cva[c].norm(), cvb[c].norm()) * dt;
+    collider_margin[c] = colliders.speed(c) * dt;
     collider_box[c] = ColliderBox(ca[c], cb[c], cr[c] + collider_margin[c]);
     all_colliders.add(collider_box[c]);
   }

@@ -68,10 +68,8 @@ void mark_motion(const World& world, const SleepRegions& regions, std::vector<st
   auto ca = colliders.a();
   auto cb = colliders.b();
   auto cr = colliders.radius();
-  auto cva = colliders.velocity_a();
-  auto cvb = colliders.velocity_b();
   for (std::size_t c = 0; c < colliders.size(); ++c) {
-    const float speed = std::max(cva[c].norm(), cvb[c].norm());
+    const float speed = colliders.speed(c);
     if (!(speed > world.solver.wake_speed)) continue;
     const Vec3 grow = Vec3::Constant(cr[c] + reach + speed * dt);
     regions.mark_box(ca[c].cwiseMin(cb[c]) - grow, ca[c].cwiseMax(cb[c]) + grow, marks);
