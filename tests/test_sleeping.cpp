@@ -92,6 +92,22 @@ std::size_t sleepers(const World& w) {
   return static_cast<std::size_t>(std::count(a.begin(), a.end(), std::uint8_t{1}));
 }
 
+// Spheres asleep with their centre within `radius` of `centre` across the floor (x, z), and awake.
+struct Census {
+  std::size_t near_asleep = 0, near_awake = 0, far_asleep = 0, far_awake = 0;
+};
+Census census(const World& w, const Vec3& centre, float radius) {
+  Census c;
+  auto x = w.spheres.position();
+  auto a = w.spheres.asleep();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Vec3 d = x[i] - centre;
+    const bool near = d.x() * d.x() + d.z() * d.z() < radius * radius;
+    (near ? (a[i] ? c.near_asleep : c.near_awake) : (a[i] ? c.far_asleep : c.far_awake))++;
+  }
+  return c;
+}
+
 }  // namespace
 
 TEST(Sleeping, ASettledPileFallsAsleepWholeAndStaysAtRest) {
@@ -114,8 +130,8 @@ TEST(Sleeping, ASettledPileFallsAsleepWholeAndStaysAtRest) {
 }
 
 TEST(Sleeping, ASleepingPileStruckByABallWakesAndComesToRestAgain) {
-  // One ball dropped on the sleeping pile wakes the pile it lands on, all of it; woken warm, the
-  // pile takes the blow and settles again instead of boiling.
+  // One ball dropped on the sleeping pile wakes the pile it lands on; woken warm, the pile takes
+  // the blow and settles again instead of boiling.
   test::Sim s;
   sleepy_pour(s);
   s.step(900);
@@ -124,7 +140,13 @@ TEST(Sleeping, ASleepingPileStruckByABallWakesAndComesToRestAgain) {
   for (const Vec3& x : s.world.spheres.position()) top = std::max(top, x.y());
   test::add_ball(s.world, Vec3(0.0f, top + 0.5f, 0.0f));
   s.step(30);  // falls 0.5 m in about 0.32 s, and lands
-  EXPECT_LT(sleepers(s.world), s.world.spheres.size() / 2) << "the pile it landed on woke";
+  // The columns it falls through wake down to the floor: every ball within its reach across the
+  // floor (its radius and the largest ball's, 0.08 m), whatever the regions' width. At 3 ball
+  // diameters a region (0.24 m) was a third of this pile's width and the landing woke more than
+  // half of it; at 1.5 (0.12 m) it woke 497 of the 1,000, all 59 balls within 0.1 m of its path.
+  const Census landed = census(s.world, Vec3(0.0f, 0.0f, 0.0f), 2.0f * 0.04f);
+  EXPECT_EQ(landed.near_asleep, 0u) << "the column it landed on still sleeps";
+  EXPECT_GT(landed.near_awake, 10u) << "the pile it landed on woke";
   float fastest = 0.0f;
   for (int k = 0; k < 600; ++k) {
     s.step();
@@ -180,22 +202,6 @@ void shallow_pile(test::Sim& s, int threads = 1, float half_width = 1.2f) {
   s.start(threads);
 }
 
-// Spheres asleep with their centre within `radius` of `centre` across the floor (x, z), and awake.
-struct Census {
-  std::size_t near_asleep = 0, near_awake = 0, far_asleep = 0, far_awake = 0;
-};
-Census census(const World& w, const Vec3& centre, float radius) {
-  Census c;
-  auto x = w.spheres.position();
-  auto a = w.spheres.asleep();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const Vec3 d = x[i] - centre;
-    const bool near = d.x() * d.x() + d.z() * d.z() < radius * radius;
-    (near ? (a[i] ? c.near_asleep : c.near_awake) : (a[i] ? c.far_asleep : c.far_awake))++;
-  }
-  return c;
-}
-
 // A kinematic sphere collider moved by hand, as a character's limb is moved by its systems.
 struct Stirrer {
   std::uint32_t row;
@@ -228,11 +234,16 @@ TEST(Sleeping, APileSleepsRegionByRegionWhileOneCornerIsStirred) {
     stick.move(s.world, Vec3(std::cos(2.0f * t), 0.0f, -std::sin(2.0f * t)) * 0.15f);  // circles of 7.5 cm
     s.step();
   }
-  // The balls the limb pushes faster than the wake speed lie within 0.5 m of the corner; the
-  // regions next to those wake whenever a pushed ball comes within a step of them, and sleep
-  // again half a second after. Beyond two regions more (and a ball's reach), all sleeps.
+  // The balls the limb pushes faster than the wake speed lie within 0.5 m of the corner (0.26 to
+  // 0.6 m in the last 300 steps); the regions next to those wake whenever a pushed ball comes
+  // within a step of them, and sleep again half a second after. A woken region's balls shift a
+  // little as they take their loads, and that wakes the next, so the waking runs on a few
+  // regions: at 3 ball diameters (0.24 m) two regions and a ball's reach bounded it; at 1.5
+  // (0.12 m) the farthest awake ball at the end lay 1.02 m out, 3.5 regions beyond the pushed
+  // balls, so the bound is four regions: the same 1.08 m as before, the waking no farther out
+  // in metres although the regions are half as wide.
   const float region = kSleepRegionDiameters * 2.0f * 0.04f;
-  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.5f + 2.0f * region + 0.1f);
+  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.5f + 4.0f * region + 0.1f);
   EXPECT_GT(near.near_awake, 0u) << "the stirred corner sleeps";
   EXPECT_EQ(c.far_awake, 0u) << "the pile away from the stirred corner still moves";
   EXPECT_GT(c.far_asleep, s.world.spheres.size() / 2);
