@@ -51,12 +51,8 @@ inline RowSpans row_spans(std::span<const std::uint8_t> asleep) {
 // A region's width, in diameters of the largest sphere. Narrower regions wake less of the pit
 // around a moving limb, but make more boundary between sleepers and awake spheres. The marine
 // walking 2 s into a settled 100k pit kept 31,000 balls awake on average at 3 diameters, 61,000
-// at 10 and 25,000 at 2 (issue 39's closing note). From the 3,000-step settled snapshot, 300
-// steps of his walk: 46,400 awake on average at 3, 35,200 at 1.5, and the deepest ball-ball
-// overlap of each step no worse (per-step worst 0.64 r on average at 1.5, 0.68 at 3, 0.62 to
-// 0.65 with sleeping off from the same state: the limbs' crush, not the sleepers'; no ball that
-// was asleep the step before took part in an overlap deeper than 0.11 r).
-inline constexpr float kSleepRegionDiameters = 1.5f;
+// at 10 and 25,000 at 2 (issue 39's closing note).
+inline constexpr float kSleepRegionDiameters = 3.0f;
 
 // A sleeper struck by an awake sphere wakes its region after the step when the blow would have
 // changed the striker's speed by more than this many times wake_speed. At once the wake speed,

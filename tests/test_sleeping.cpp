@@ -92,20 +92,18 @@ std::size_t sleepers(const World& w) {
   return static_cast<std::size_t>(std::count(a.begin(), a.end(), std::uint8_t{1}));
 }
 
-// Spheres asleep with their centre within `radius` of `centre` across the floor (x, z), and awake.
-struct Census {
-  std::size_t near_asleep = 0, near_awake = 0, far_asleep = 0, far_awake = 0;
-};
-Census census(const World& w, const Vec3& centre, float radius) {
-  Census c;
-  auto x = w.spheres.position();
-  auto a = w.spheres.asleep();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const Vec3 d = x[i] - centre;
-    const bool near = d.x() * d.x() + d.z() * d.z() < radius * radius;
-    (near ? (a[i] ? c.near_asleep : c.near_awake) : (a[i] ? c.far_asleep : c.far_awake))++;
+// Steps until every ball sleeps, at most `most` steps; returns the steps taken. The pour is at
+// rest after about 3 s, but a pair jammed a little past the bound (1% r) among sleepers keeps
+// its regions and their neighbours awake until the last creep frees it: with regions 1.5
+// diameters wide (tried for issue 39, not kept) one pair at 1.2% r held 167 balls awake from
+// 3 s to 21 s.
+int sleep_whole(test::Sim& s, int most) {
+  int taken = 0;
+  while (taken < most && sleepers(s.world) < s.world.spheres.size()) {
+    s.step();
+    ++taken;
   }
-  return c;
+  return taken;
 }
 
 }  // namespace
@@ -117,7 +115,7 @@ TEST(Sleeping, ASettledPileFallsAsleepWholeAndStaysAtRest) {
   // sleeping off: all of it asleep, and no overlap beyond 1% r.
   test::Sim s;
   sleepy_pour(s);
-  s.step(900);  // 15 s: the pile is at rest long before (sleeping off: 3e-6 J after 20 s at 10k)
+  sleep_whole(s, 900);  // 15 s (sleeping off: 3e-6 J left after 20 s at 10k)
   ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
   const std::size_t pair_entries = s.world.contacts.warm.size();
   s.step(120);
@@ -130,23 +128,17 @@ TEST(Sleeping, ASettledPileFallsAsleepWholeAndStaysAtRest) {
 }
 
 TEST(Sleeping, ASleepingPileStruckByABallWakesAndComesToRestAgain) {
-  // One ball dropped on the sleeping pile wakes the pile it lands on; woken warm, the pile takes
-  // the blow and settles again instead of boiling.
+  // One ball dropped on the sleeping pile wakes the pile it lands on, all of it; woken warm, the
+  // pile takes the blow and settles again instead of boiling.
   test::Sim s;
   sleepy_pour(s);
-  s.step(900);
+  sleep_whole(s, 900);
   ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
   float top = 0.0f;
   for (const Vec3& x : s.world.spheres.position()) top = std::max(top, x.y());
   test::add_ball(s.world, Vec3(0.0f, top + 0.5f, 0.0f));
   s.step(30);  // falls 0.5 m in about 0.32 s, and lands
-  // The columns it falls through wake down to the floor: every ball within its reach across the
-  // floor (its radius and the largest ball's, 0.08 m), whatever the regions' width. At 3 ball
-  // diameters a region (0.24 m) was a third of this pile's width and the landing woke more than
-  // half of it; at 1.5 (0.12 m) it woke 497 of the 1,000, all 59 balls within 0.1 m of its path.
-  const Census landed = census(s.world, Vec3(0.0f, 0.0f, 0.0f), 2.0f * 0.04f);
-  EXPECT_EQ(landed.near_asleep, 0u) << "the column it landed on still sleeps";
-  EXPECT_GT(landed.near_awake, 10u) << "the pile it landed on woke";
+  EXPECT_LT(sleepers(s.world), s.world.spheres.size() / 2) << "the pile it landed on woke";
   float fastest = 0.0f;
   for (int k = 0; k < 600; ++k) {
     s.step();
@@ -165,7 +157,7 @@ TEST(Sleeping, ARegionWokenByAMoverKeepsItsSupportInTheStepItWakes) {
   // freely for the step (g dt = 0.16 m/s) and overlap by 0.09 r three steps later.
   test::Sim s;
   sleepy_pour(s);
-  s.step(900);
+  sleep_whole(s, 900);
   ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
   auto x = s.world.spheres.position();
   const std::uint32_t top = static_cast<std::uint32_t>(
@@ -202,6 +194,22 @@ void shallow_pile(test::Sim& s, int threads = 1, float half_width = 1.2f) {
   s.start(threads);
 }
 
+// Spheres asleep with their centre within `radius` of `centre` across the floor (x, z), and awake.
+struct Census {
+  std::size_t near_asleep = 0, near_awake = 0, far_asleep = 0, far_awake = 0;
+};
+Census census(const World& w, const Vec3& centre, float radius) {
+  Census c;
+  auto x = w.spheres.position();
+  auto a = w.spheres.asleep();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Vec3 d = x[i] - centre;
+    const bool near = d.x() * d.x() + d.z() * d.z() < radius * radius;
+    (near ? (a[i] ? c.near_asleep : c.near_awake) : (a[i] ? c.far_asleep : c.far_awake))++;
+  }
+  return c;
+}
+
 // A kinematic sphere collider moved by hand, as a character's limb is moved by its systems.
 struct Stirrer {
   std::uint32_t row;
@@ -234,16 +242,11 @@ TEST(Sleeping, APileSleepsRegionByRegionWhileOneCornerIsStirred) {
     stick.move(s.world, Vec3(std::cos(2.0f * t), 0.0f, -std::sin(2.0f * t)) * 0.15f);  // circles of 7.5 cm
     s.step();
   }
-  // The balls the limb pushes faster than the wake speed lie within 0.5 m of the corner (0.26 to
-  // 0.6 m in the last 300 steps); the regions next to those wake whenever a pushed ball comes
-  // within a step of them, and sleep again half a second after. A woken region's balls shift a
-  // little as they take their loads, and that wakes the next, so the waking runs on a few
-  // regions: at 3 ball diameters (0.24 m) two regions and a ball's reach bounded it; at 1.5
-  // (0.12 m) the farthest awake ball at the end lay 1.02 m out, 3.5 regions beyond the pushed
-  // balls, so the bound is four regions: the same 1.08 m as before, the waking no farther out
-  // in metres although the regions are half as wide.
+  // The balls the limb pushes faster than the wake speed lie within 0.5 m of the corner; the
+  // regions next to those wake whenever a pushed ball comes within a step of them, and sleep
+  // again half a second after. Beyond two regions more (and a ball's reach), all sleeps.
   const float region = kSleepRegionDiameters * 2.0f * 0.04f;
-  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.5f + 4.0f * region + 0.1f);
+  const Census near = census(s.world, corner, 0.4f), c = census(s.world, corner, 0.5f + 2.0f * region + 0.1f);
   EXPECT_GT(near.near_awake, 0u) << "the stirred corner sleeps";
   EXPECT_EQ(c.far_awake, 0u) << "the pile away from the stirred corner still moves";
   EXPECT_GT(c.far_asleep, s.world.spheres.size() / 2);
