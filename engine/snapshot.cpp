@@ -21,8 +21,10 @@ using snapshot_io::Writer;
 constexpr char kMagic[8] = {'B', 'A', 'L', 'L', 'P', 'I', 'T', '\x1a'};
 // 2: characters and joint colliders (version 1 held spheres only). 3: the solver's Solve sweeps
 // per substep (a version 2 file is read with one, the only count it could have run). 4: the
-// characters' actions (jump, kick: clips, input, the one playing); older files have none.
-constexpr std::uint32_t kVersion = 4;
+// characters' actions (jump, kick: clips, input, the one playing); older files have none. 5:
+// where each sphere's still time began (systems/sleeping.h); older files start it where the
+// sphere is.
+constexpr std::uint32_t kVersion = 5;
 constexpr std::uint32_t kOldestReadable = 2;
 using snapshot_io::kHeaderBytes;
 
@@ -67,6 +69,7 @@ void capture_snapshot(const World& world, Snapshot& s) {
   copy_span(s.material, t.material());
   copy_span(s.color, t.color());
   copy_span(s.still_time, t.still_time());
+  copy_span(s.still_from, t.still_from());
   copy_span(s.asleep, t.asleep());
 
   const EntityRegistry& reg = world.entities;
@@ -102,6 +105,7 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
   check_rows(s.material.size(), "spheres.material");
   check_rows(s.color.size(), "spheres.color");
   check_rows(s.still_time.size(), "spheres.still_time");
+  if (!s.still_from.empty()) check_rows(s.still_from.size(), "spheres.still_from");
   check_rows(s.asleep.size(), "spheres.asleep");
   if (s.materials.empty()) fail("materials is empty, expected at least one");
   if (!s.warm_begin.empty()) {
@@ -135,7 +139,7 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
         fail("spheres row " + std::to_string(i) + ": material " + std::to_string(s.material[i]) + " does not exist");
       if (!(s.inv_mass[i] > 0.0f) || !std::isfinite(s.inv_mass[i]))
         fail("spheres row " + std::to_string(i) + ": inv_mass must be a finite number > 0 1/kg");
-      if (!std::isfinite(s.still_time[i]) || s.asleep[i] > 1)
+      if (!std::isfinite(s.still_time[i]) || s.asleep[i] > 1 || (!s.still_from.empty() && !all_finite(s.still_from[i])))
         fail("spheres row " + std::to_string(i) + ": sleep state is invalid");
       SphereDesc d;
       d.position = s.position[i];
@@ -148,6 +152,7 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
     }
     std::copy(s.inv_mass.begin(), s.inv_mass.end(), w.spheres.mut_inv_mass().begin());
     std::copy(s.still_time.begin(), s.still_time.end(), w.spheres.mut_still_time().begin());
+    std::copy(s.still_from.begin(), s.still_from.end(), w.spheres.mut_still_from().begin());
     std::copy(s.asleep.begin(), s.asleep.end(), w.spheres.mut_asleep().begin());
     if (s.has_angular) {
       for (const Vec3& a : s.angular_velocity)
@@ -180,6 +185,7 @@ std::string encode_snapshot(const Snapshot& s) {
   w.array(s.material);
   w.array(s.color);
   w.array(s.still_time);
+  w.array(s.still_from);
   w.array(s.asleep);
   w.array(s.registry_generations);
   w.array(s.registry_free);
@@ -260,6 +266,7 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   r.array("spheres.material", s.material);
   r.array("spheres.color", s.color);
   r.array("spheres.still_time", s.still_time);
+  if (version >= 5) r.array("spheres.still_from", s.still_from);
   r.array("spheres.asleep", s.asleep);
   r.array("entities.generations", s.registry_generations);
   r.array("entities.free", s.registry_free);

@@ -32,6 +32,7 @@ struct Snapshot {
   std::vector<std::uint16_t> material;
   std::vector<std::uint32_t> color;
   std::vector<float> still_time;       // (unit: s)
+  std::vector<Vec3> still_from;        // (unit: m; version 5 on: older files start it where the sphere is)
   std::vector<std::uint8_t> asleep;
   std::vector<std::uint32_t> registry_generations, registry_free;  // EntityRegistry, exactly
   std::vector<Material> materials;

@@ -44,6 +44,7 @@ void SphereTable::add(Entity e, const SphereDesc& d) {
   material_.push_back(d.material);
   color_.push_back(d.color);
   still_time_.push_back(0.0f);
+  still_from_.push_back(d.position);
   asleep_.push_back(0);
   entity_.push_back(e.index);
   generation_.push_back(e.generation);
@@ -77,6 +78,7 @@ void SphereTable::remove(Entity e) {
   move_last(material_);
   move_last(color_);
   move_last(still_time_);
+  move_last(still_from_);
   move_last(asleep_);
   move_last(entity_);
   move_last(generation_);
@@ -91,6 +93,7 @@ void SphereTable::reserve(std::size_t n) {
   material_.reserve(n);
   color_.reserve(n);
   still_time_.reserve(n);
+  still_from_.reserve(n);
   asleep_.reserve(n);
   entity_.reserve(n);
   generation_.reserve(n);
@@ -106,6 +109,7 @@ void SphereTable::clear() {
   material_.clear();
   color_.clear();
   still_time_.clear();
+  still_from_.clear();
   asleep_.clear();
   entity_.clear();
   generation_.clear();
@@ -132,6 +136,7 @@ void SphereTable::each_column(Table& table, F&& f) {
   f(table.material_, t.material);
   f(table.color_, t.color);
   f(table.still_time_, t.still_time);
+  f(table.still_from_, t.still_from);
   f(table.asleep_, t.asleep);
   f(table.entity_, t.entity);
   f(table.generation_, t.generation);

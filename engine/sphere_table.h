@@ -71,6 +71,7 @@ class SphereTable {
   std::span<const std::uint16_t> material() const { return read(ColumnId::SphereMaterial, material_); }
   std::span<const std::uint32_t> color() const { return read(ColumnId::SphereColor, color_); }
   std::span<const float> still_time() const { return read(ColumnId::SphereSleep, still_time_); }
+  std::span<const Vec3> still_from() const { return read(ColumnId::SphereSleep, still_from_); }
   std::span<const std::uint8_t> asleep() const { return read(ColumnId::SphereSleep, asleep_); }
   std::span<const std::uint32_t> entity_index() const { return read(ColumnId::SphereRows, entity_); }
 
@@ -83,6 +84,7 @@ class SphereTable {
   std::span<float> mut_inv_mass() { return write(ColumnId::SphereInvMass, inv_mass_); }
   std::span<std::uint32_t> mut_color() { return write(ColumnId::SphereColor, color_); }
   std::span<float> mut_still_time() { return write(ColumnId::SphereSleep, still_time_); }
+  std::span<Vec3> mut_still_from() { return write(ColumnId::SphereSleep, still_from_); }
   std::span<std::uint8_t> mut_asleep() { return write(ColumnId::SphereSleep, asleep_); }
 
   // Moves row new_to_old[i] to row i for every column, and updates the entity -> row map.
@@ -119,7 +121,8 @@ class SphereTable {
   Column<float> inv_mass_;
   Column<std::uint16_t> material_;
   Column<std::uint32_t> color_;
-  Column<float> still_time_;       // seconds spent below the sleep speed (unit: s)
+  Column<float> still_time_;       // seconds spent still (systems/sleeping.h) (unit: s)
+  Column<Vec3> still_from_;        // where the sphere was when its still time began (unit: m)
   Column<std::uint8_t> asleep_;
   Column<std::uint32_t> entity_;      // entity index of each row
   Column<std::uint32_t> generation_;  // entity generation of each row
@@ -131,7 +134,7 @@ class SphereTable {
   // each column where it was. (Swapping a column with its target instead saved the copy back
   // but moved every column every step, so no view of one outlived a step.)
   struct Targets {
-    Column<Vec3> position, velocity, angular_velocity;
+    Column<Vec3> position, velocity, angular_velocity, still_from;
     Column<float> radius, inv_mass, still_time;
     Column<std::uint16_t> material;
     Column<std::uint32_t> color, entity, generation;

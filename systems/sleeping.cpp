@@ -25,6 +25,16 @@ constexpr std::size_t kRowsPerThread = 131072;
 // SCENES.md, 1% r). Still but not yet pushed apart, a region would keep its overlap for as long
 // as it sleeps (the 1,000-ball pour slept with a pair 1.18% r deep).
 constexpr float kSleepOverlapFraction = 0.01f;
+// A sphere is still only while it stays within this fraction of its radius of where its still
+// time began, whatever its speed: a pile that still compacts creeps at under sleep_speed, and a
+// region that fell asleep creeping froze the pile loose. The 100k sleeping pour then slid and
+// fell in avalanches after it had settled (balls at 0.6 to 1.9 m/s, 0.127 J and 0.06 r at the
+// end against 0.003 J and 0.005 r without sleeping); at a tenth of a radius it ends at 0.001 J
+// and 0.009 r with 1,700 balls awake; at a twentieth most of it creeps awake past 10 s
+// (profiling/reports/sleeping.md). Speeds alone cannot tell creep from the solver's jitter,
+// which a drift from a fixed point ignores.
+constexpr float kStillDriftFraction = 0.1f;
+
 // A sleeper pressed deeper than this by an awake sphere wakes: twice the bound above, so that a
 // region that fell asleep near the bound is not woken by the last settling of the regions
 // around it (at once the bound, a stirred corner kept waking regions 1.5 m away, one after the
@@ -190,14 +200,20 @@ void update_sleep(World& world) {
   std::int64_t n = static_cast<std::int64_t>(spans.awake_end);
 
   // The clock: the regions matter for falling asleep only once a sphere has been still for
-  // sleep_time.
+  // sleep_time: slower than sleep_speed, and near where its still time began.
+  auto from = spheres.mut_still_from();
   bool ready = false;
 #pragma omp parallel for schedule(static) reduction(|| : ready)
   for (std::int64_t i = 0; i < n; ++i) {
     if (asleep[i]) continue;
     const float spin = angular ? w[i].squaredNorm() * r[i] * r[i] : 0.0f;
-    if (v[i].squaredNorm() < sleep2 && spin < sleep2) still[i] += dt;
-    else still[i] = 0.0f;
+    const float drift = kStillDriftFraction * r[i];
+    if (v[i].squaredNorm() < sleep2 && spin < sleep2 && (x[i] - from[i]).squaredNorm() <= drift * drift) {
+      still[i] += dt;
+    } else {
+      still[i] = 0.0f;
+      from[i] = x[i];
+    }
     ready = ready || still[i] >= s.sleep_time;
   }
 

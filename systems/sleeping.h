@@ -1,6 +1,7 @@
 // Sleeping, by region: the pit is cut into columns along gravity (systems/sleep_regions.h), and
-// the spheres of a column that have all stayed slower than sleep_speed for sleep_time fall
-// asleep together, whatever the columns around them do. A sleeper stops integrating and is a
+// the spheres of a column that have all stayed slower than sleep_speed, and within a tenth of
+// their radius of where they were, for sleep_time fall asleep together, whatever the columns
+// around them do. A sleeper stops integrating and is a
 // fixed body for the awake spheres and limbs that meet it; its pairs with other sleepers, its
 // floor and its walls are neither found nor solved, and the warm-start cache keeps their
 // impulses (systems/solver.cpp), so it wakes carrying the load it carried.

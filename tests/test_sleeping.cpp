@@ -34,6 +34,29 @@ TEST(Sleeping, AStillBallFallsAsleepAfterSleepTime) {
   EXPECT_EQ(s.velocity(e), Vec3::Zero());
 }
 
+TEST(Sleeping, ABallCreepingUnderTheSleepSpeedStaysAwakeButOneJitteringInPlaceSleeps) {
+  // A pile that still compacts creeps slower than sleep_speed; asleep, it froze loose and
+  // avalanched later (systems/sleeping.cpp: kStillDriftFraction). Without gravity a ball keeps
+  // the speed it is given: at 1.5 cm/s (under the 2 cm/s sleep speed) it leaves a tenth of its
+  // radius behind in a quarter of sleep_time, so it never sleeps; one whose velocity swings
+  // between +-1.5 cm/s every step stays put, as a ball jostled by the solver does, and sleeps.
+  test::Sim s;
+  sleepy_pit(s.world);
+  s.world.set_gravity(Vec3::Zero());
+  Entity creeping = test::add_ball(s.world, Vec3(-0.5f, 0.5f, 0), Vec3(0.015f, 0, 0));
+  Entity jittering = test::add_ball(s.world, Vec3(0.5f, 0.5f, 0));
+  s.start();
+  ASSERT_LT(0.015f, s.world.solver.sleep_speed);
+  const int steps = static_cast<int>(3.0f * s.world.solver.sleep_time / s.world.step());
+  for (int k = 0; k < steps; ++k) {
+    if (!asleep(s, jittering))
+      s.world.spheres.mut_velocity()[s.world.spheres.row(jittering)] = Vec3(k % 2 ? 0.015f : -0.015f, 0, 0);
+    s.step();
+  }
+  EXPECT_FALSE(asleep(s, creeping)) << "moved " << s.position(creeping).x() + 0.5f << " m while 'still'";
+  EXPECT_TRUE(asleep(s, jittering));
+}
+
 TEST(Sleeping, ASleeperCostsNoContacts) {
   test::Sim s;
   sleepy_pit(s.world);

@@ -4,6 +4,7 @@
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cmath>
 #include <cstring>
@@ -51,6 +52,25 @@ std::string read_bytes(const std::string& path) {
 void write_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+// The file as version 4 wrote it: without the still_from array (version 5), which follows the
+// still times and holds a position per row. It is found as the last match of its count and
+// bytes, since it equals the positions array where no sphere has moved since its clock began.
+std::string as_version_four(const std::string& v5, const World& w) {
+  auto from = w.spheres.still_from();
+  std::string block(8, '\0');
+  const std::uint64_t n = from.size();
+  std::memcpy(block.data(), &n, 8);
+  block.append(reinterpret_cast<const char*>(from.data()), from.size_bytes());
+  const std::size_t at = v5.rfind(block);
+  EXPECT_NE(at, std::string::npos);
+  if (at == std::string::npos) return v5;
+  std::string v4 = v5.substr(0, at) + v5.substr(at + block.size());
+  const std::uint32_t version = 4;
+  std::memcpy(v4.data() + snapshot_io::kVersionAt, &version, sizeof version);
+  snapshot_io::reseal_header(v4);
+  return v4;
 }
 
 // The pour scene with some spheres removed (so the registry has a free list) and, optionally,
@@ -167,7 +187,7 @@ TEST(Snapshot, SolveSweepsAreKeptAndAVersionTwoFileLoadsWithOne) {
 
   a.world.set_solve_sweeps(1);
   save_snapshot(a.world, dir.file("one.snap"));
-  const std::string v3 = read_bytes(dir.file("one.snap"));
+  const std::string v3 = as_version_four(read_bytes(dir.file("one.snap")), a.world);
   // The solver block starts with substeps (4) and sweeps (1), then the push-out rate: cut the
   // sweeps out, and make the header a version 2 one around the shorter payload.
   const SolverSettings& s = a.world.solver;
@@ -194,6 +214,26 @@ TEST(Snapshot, SolveSweepsAreKeptAndAVersionTwoFileLoadsWithOne) {
   from_v2.step(5);
   from_v3.step(5);
   EXPECT_EQ(state_hash(from_v2.world), state_hash(from_v3.world));
+}
+
+// Version 5 added where each sphere's still time began (systems/sleeping.h). A version 4 file
+// loads with it where the sphere is, its clock kept: a sphere that stays put sleeps on time.
+TEST(Snapshot, AVersionFourFileStartsEachStillTimeWhereTheSphereIs) {
+  TempDir dir;
+  test::Sim a;
+  build_pour(a, true);
+  a.step(30);
+  save_snapshot(a.world, dir.file("five.snap"));
+  write_bytes(dir.file("four.snap"), as_version_four(read_bytes(dir.file("five.snap")), a.world));
+  World b;
+  load_snapshot(b, dir.file("four.snap"));
+  auto x = b.spheres.position();
+  auto from = b.spheres.still_from();
+  ASSERT_EQ(from.size(), x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) ASSERT_EQ(from[i], x[i]) << "row " << i;
+  World c;
+  load_snapshot(c, dir.file("five.snap"));
+  EXPECT_TRUE(std::equal(c.spheres.still_from().begin(), c.spheres.still_from().end(), a.world.spheres.still_from().begin()));
 }
 
 TEST(Snapshot, TruncatedAtEveryTenthOfItsLengthIsRefused) {
