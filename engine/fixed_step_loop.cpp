@@ -18,9 +18,11 @@ FixedStepLoop::FixedStepLoop(World& world, Scheduler& scheduler)
 void FixedStepLoop::run_pass(float length, bool split) {
   // A step of one pass at dt after another such step is what it always was: the cache is left
   // alone, as it always was when dt changed between steps.
-  if ((split || last_split_) && last_pass_ > 0.0f && length != last_pass_) scale_warm_start(world_, length / last_pass_);
-  last_pass_ = length;
-  last_split_ = split;
+  PassRecord& last = world_.passes;
+  if ((split || last.last_split) && last.last_length > 0.0f && length != last.last_length)
+    scale_warm_start(world_, length / last.last_length);
+  last.last_length = length;
+  last.last_split = split;
   world_.set_step(length);
   scheduler_.run_frame(world_);
 }

@@ -37,10 +37,6 @@ class FixedStepLoop {
   World& world_;
   Scheduler& scheduler_;
   double accumulator_ = 0.0;
-  // The length of the last pass run (unit: s) and whether its step was split: the warm-start
-  // cache holds impulses of that pass's substeps.
-  float last_pass_ = 0.0f;
-  bool last_split_ = false;
 };
 
 }  // namespace ballpit

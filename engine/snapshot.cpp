@@ -23,8 +23,9 @@ constexpr char kMagic[8] = {'B', 'A', 'L', 'L', 'P', 'I', 'T', '\x1a'};
 // per substep (a version 2 file is read with one, the only count it could have run). 4: the
 // characters' actions (jump, kick: clips, input, the one playing); older files have none. 5:
 // where each sphere's still time began (systems/sleeping.h); older files start it where the
-// sphere is.
-constexpr std::uint32_t kVersion = 5;
+// sphere is. 6: the last pass's length, and whether its step was split (engine/step_passes.h);
+// older files resume as if the last step had run whole.
+constexpr std::uint32_t kVersion = 6;
 constexpr std::uint32_t kOldestReadable = 2;
 using snapshot_io::kHeaderBytes;
 
@@ -83,6 +84,8 @@ void capture_snapshot(const World& world, Snapshot& s) {
   s.gravity = world.gravity();
   s.dt = world.step();
   s.step_count = world.step_count;
+  s.last_pass_length = world.passes.last_length;
+  s.last_pass_split = world.passes.last_split;
   s.warm_begin = world.contacts.warm_begin;
   s.warm = world.contacts.warm;
   capture_characters(world, s.characters, s.colliders);
@@ -129,6 +132,10 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
     w.set_gravity(s.gravity);
     w.set_step(s.dt);
     w.step_count = s.step_count;
+    if (!std::isfinite(s.last_pass_length) || s.last_pass_length < 0.0f)
+      fail("last_pass.length must be a finite number >= 0 s, got " + std::to_string(s.last_pass_length));
+    w.passes.last_length = s.last_pass_length;
+    w.passes.last_split = s.last_pass_split;
     w.entities.restore(s.registry_generations, s.registry_free);
     w.enable_angular(s.has_angular);
     w.spheres.reserve(n);
@@ -211,6 +218,8 @@ std::string encode_snapshot(const Snapshot& s) {
   w.put(s.gravity);
   w.put(s.dt);
   w.put(s.step_count);
+  w.put(s.last_pass_length);
+  w.put(static_cast<std::uint8_t>(s.last_pass_split));
   w.array(s.warm_begin);
   w.array(s.warm);
   put_characters(w, s.characters, s.colliders);
@@ -295,6 +304,10 @@ Snapshot decode_snapshot(std::string_view bytes, const std::string& path) {
   s.gravity = r.get<Vec3>("gravity");
   s.dt = r.get<float>("dt");
   s.step_count = r.get<std::uint64_t>("step_count");
+  if (version >= 6) {
+    s.last_pass_length = r.get<float>("last_pass.length");
+    s.last_pass_split = r.get<std::uint8_t>("last_pass.split") != 0;
+  }
   r.array("contacts.warm_begin", s.warm_begin);
   r.array("contacts.warm", s.warm);
   get_characters(r, version, s.characters, s.colliders);

@@ -41,6 +41,8 @@ struct Snapshot {
   Vec3 gravity = Vec3::Zero();  // (unit: m/s^2)
   float dt = 0.0f;              // (unit: s)
   std::uint64_t step_count = 0;
+  float last_pass_length = 0.0f;  // PassRecord::last_length (version 6 on; older: 0, nothing scaled)
+  bool last_pass_split = false;   // PassRecord::last_split (version 6 on)
   std::vector<std::uint32_t> warm_begin;  // ContactSet's warm-start cache, keyed by row
   std::vector<WarmStartEntry> warm;
   ColliderSnapshot colliders;                 // joint-collider rows (format version 2 on)

@@ -66,6 +66,11 @@ struct PassRecord {
   int needed = 1;      // passes the margins needed (more than taken: the cap did not hold)
   float longest = 0;   // the shortest longest_capped_pass of its passes (unit: s)
   std::uint64_t steps_short = 0;  // steps so far that needed more passes than they could take
+  // The last pass's length (unit: s; 0 before the first) and whether its step was split: the
+  // warm-start cache holds impulses of one substep of that pass, which the next pass scales to
+  // its own length. World state, so that a snapshot resumes as the run it was taken from.
+  float last_length = 0.0f;
+  bool last_split = false;
 };
 
 // The warning for a step that needed more passes than kMostPassesPerStep: what happened, why,

@@ -54,19 +54,29 @@ void write_bytes(const std::string& path, const std::string& bytes) {
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-// The file as version 4 wrote it: without the still_from array (version 5), which follows the
-// still times and holds a position per row. It is found as the last match of its count and
-// bytes, since it equals the positions array where no sphere has moved since its clock began.
-std::string as_version_four(const std::string& v5, const World& w) {
-  auto from = w.spheres.still_from();
-  std::string block(8, '\0');
-  const std::uint64_t n = from.size();
-  std::memcpy(block.data(), &n, 8);
-  block.append(reinterpret_cast<const char*>(from.data()), from.size_bytes());
-  const std::size_t at = v5.rfind(block);
+template <class T>
+std::string bytes_of(const T& value) {
+  return {reinterpret_cast<const char*>(&value), sizeof value};
+}
+
+// `file` with the last match of `block` replaced by `with`; the test fails where there is none.
+std::string replaced(const std::string& file, const std::string& block, const std::string& with = "") {
+  const std::size_t at = file.rfind(block);
   EXPECT_NE(at, std::string::npos);
-  if (at == std::string::npos) return v5;
-  std::string v4 = v5.substr(0, at) + v5.substr(at + block.size());
+  return at == std::string::npos ? file : file.substr(0, at) + with + file.substr(at + block.size());
+}
+
+// The file as version 4 wrote it, from the world it was saved from: without the still_from
+// array (version 5), which follows the still times and holds a position per row (its last match:
+// it equals the positions array where no sphere has moved since its clock began), and without
+// the last pass after the step length and count (version 6).
+std::string as_version_four(const std::string& v6, const World& w) {
+  auto from = w.spheres.still_from();
+  const std::string still_from = bytes_of(static_cast<std::uint64_t>(from.size())) +
+                                 std::string(reinterpret_cast<const char*>(from.data()), from.size_bytes());
+  const std::string count = bytes_of(w.step()) + bytes_of(w.step_count);
+  const std::string last_pass = bytes_of(w.passes.last_length) + bytes_of(static_cast<std::uint8_t>(w.passes.last_split));
+  std::string v4 = replaced(replaced(v6, still_from), count + last_pass, count);
   const std::uint32_t version = 4;
   std::memcpy(v4.data() + snapshot_io::kVersionAt, &version, sizeof version);
   snapshot_io::reseal_header(v4);
@@ -216,8 +226,9 @@ TEST(Snapshot, SolveSweepsAreKeptAndAVersionTwoFileLoadsWithOne) {
   EXPECT_EQ(state_hash(from_v2.world), state_hash(from_v3.world));
 }
 
-// Version 5 added where each sphere's still time began (systems/sleeping.h). A version 4 file
-// loads with it where the sphere is, its clock kept: a sphere that stays put sleeps on time.
+// Version 5 added where each sphere's still time began (systems/sleeping.h), version 6 the last
+// pass. A version 4 file loads with the first where the sphere is, its clock kept (a sphere that
+// stays put sleeps on time), and no last pass.
 TEST(Snapshot, AVersionFourFileStartsEachStillTimeWhereTheSphereIs) {
   TempDir dir;
   test::Sim a;
@@ -231,9 +242,43 @@ TEST(Snapshot, AVersionFourFileStartsEachStillTimeWhereTheSphereIs) {
   auto from = b.spheres.still_from();
   ASSERT_EQ(from.size(), x.size());
   for (std::size_t i = 0; i < x.size(); ++i) ASSERT_EQ(from[i], x[i]) << "row " << i;
+  EXPECT_EQ(b.passes.last_length, 0.0f) << "an older file resumes as if the last step ran whole";
   World c;
   load_snapshot(c, dir.file("five.snap"));
   EXPECT_TRUE(std::equal(c.spheres.still_from().begin(), c.spheres.still_from().end(), a.world.spheres.still_from().begin()));
+}
+
+// A step split into passes (engine/step_passes.h) leaves the warm-start cache of its last,
+// shorter pass, which the next step scales to its own length. Resumed right after such a step,
+// a run must scale it the same way (version 6 keeps the last pass), not warm-start the next
+// step with impulses a few times too small.
+TEST(Snapshot, ResumingRightAfterASplitStepEqualsTheRunItWasTakenFrom) {
+  TempDir dir;
+  auto build = [](test::Sim& s) {
+    test::make_pit(s.world, 0.45f, 0.5f, 0.5f);
+    for (int i = 0; i < 8; ++i)
+      for (int k = 0; k < 8; ++k) test::add_ball(s.world, Vec3(-0.3f + 0.082f * i, 0.04f, -0.3f + 0.083f * k));
+    for (int i = 0; i < 3; ++i) test::add_ball(s.world, Vec3(-0.1f + 0.1f * i, 0.6f, 0.01f), Vec3(0.0f, -30.0f, 0.0f));
+    s.start(2);
+  };
+  test::Sim a;
+  build(a);
+  int steps = 0;
+  do {
+    a.step();
+    ++steps;
+  } while (a.world.passes.passes == 1 && steps < 30);
+  ASSERT_GT(a.world.passes.passes, 1) << "the balls fired at 30 m/s should split a step";
+  ASSERT_LT(a.world.passes.last_length, a.world.step());
+  save_snapshot(a.world, dir.file("split.snap"));
+  test::Sim b;
+  load_snapshot(b.world, dir.file("split.snap"));
+  EXPECT_EQ(b.world.passes.last_length, a.world.passes.last_length);
+  EXPECT_TRUE(b.world.passes.last_split);
+  b.start(2);
+  a.step(5);
+  b.step(5);
+  EXPECT_EQ(hash_hex(state_hash(a.world)), hash_hex(state_hash(b.world)));
 }
 
 TEST(Snapshot, TruncatedAtEveryTenthOfItsLengthIsRefused) {
