@@ -38,6 +38,12 @@ void FixedStepLoop::step() {
   float remaining = dt;
   // A world with joint colliders runs whole (engine/step_passes.h says why).
   const bool whole = world_.colliders.size() > 0;
+  // The profiler's table is per step: a step's passes add up to one of its frames.
+  struct StepTiming {
+    Profiler& profiler;
+    explicit StepTiming(Profiler& p) : profiler(p) { profiler.begin_step(); }
+    ~StepTiming() { profiler.end_step(); }
+  } timing(scheduler_.profiler());
   try {
     // Each pass is planned from the velocities the last one left: a ball that speeds up (or is
     // hit) shortens the passes after it, one that stops lengthens them.

@@ -25,13 +25,28 @@ Profiler::Series& Profiler::series(const std::string& name) {
 
 void Profiler::begin_frame() {
   std::lock_guard lock(mutex_);
-  std::fill(current_.begin(), current_.end(), 0.0);
+  if (!in_step_) std::fill(current_.begin(), current_.end(), 0.0);
 }
 
 void Profiler::end_frame() {
   std::lock_guard lock(mutex_);
+  if (in_step_) return;
   for (std::size_t i = 0; i < series_.size(); ++i) series_[i].frame_ms.push_back(current_[i]);
   ++frames_;
+}
+
+void Profiler::begin_step() {
+  std::lock_guard lock(mutex_);
+  std::fill(current_.begin(), current_.end(), 0.0);
+  in_step_ = true;
+}
+
+void Profiler::end_step() {
+  {
+    std::lock_guard lock(mutex_);
+    in_step_ = false;
+  }
+  end_frame();
 }
 
 void Profiler::record(const std::string& name, Clock::time_point start, Clock::time_point end) {

@@ -29,6 +29,10 @@ class Profiler {
 
   void begin_frame();
   void end_frame();
+  // Between these, the frames are the passes of one step (engine/step_passes.h), and they count
+  // as one frame: the table's medians stay per step however many passes a step takes.
+  void begin_step();
+  void end_step();
   // Adds one timed run of `name` to the current frame; thread-safe.
   void record(const std::string& name, Clock::time_point start, Clock::time_point end);
 
@@ -58,6 +62,7 @@ class Profiler {
   std::vector<double> current_;  // per series, this frame
   std::vector<TraceEvent> trace_;
   std::size_t frames_ = 0;
+  bool in_step_ = false;
   bool tracing_ = false;
   Clock::time_point epoch_ = Clock::now();
 };

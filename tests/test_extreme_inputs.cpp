@@ -340,6 +340,26 @@ TEST(ExtremeInputs, PassesGiveTheSameStateForAnyThreadCount_UnderTwoOpenMPThread
   EXPECT_EQ(hash_hex(run(1)), hash_hex(run(2)));
 }
 
+TEST(ExtremeInputs, TheProfilerCountsAStepOfSeveralPassesAsOneFrame) {
+  // The per-system table's medians are per step (engine/profiler.h): counted per pass, a run
+  // whose steps split showed the cost of a pass, a fraction of its steps'.
+  test::Sim s;
+  test::make_pit(s.world, 0.45f, 0.5f, 0.5f);
+  lattice(s.world, 4, 1, 4, 0.04f, 2.2f, 0.04f);
+  lattice(s.world, 2, 1, 2, 0.04f, 2.2f, 0.6f, Vec3(0.0f, -30.0f, 0.0f));
+  s.start();
+  const int steps = 10;
+  int passes = 0;
+  for (int k = 0; k < steps; ++k) {
+    s.step();
+    passes += s.world.passes.passes;
+  }
+  ASSERT_GT(passes, steps) << "the balls fired at 30 m/s should split some steps";
+  const std::vector<SystemStats> stats = s.scheduler->profiler().stats();
+  ASSERT_FALSE(stats.empty());
+  for (const SystemStats& system : stats) EXPECT_EQ(system.frames, static_cast<std::size_t>(steps)) << system.name;
+}
+
 TEST(StepPasses, PlanFromTheFastestBallAndGravity) {
   // v h + g h^2 / 4 = (cap - minimum) r, for the fastest ball and for gravity alone.
   World w;
