@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <new>
 #include <sstream>
 #include <type_traits>
 
@@ -123,33 +124,31 @@ void SphereTable::set_angular(bool enabled) {
 
 template <class Table, class F>
 void SphereTable::each_column(Table& table, F&& f) {
-  auto& t = table.targets_;
-  f(table.position_, t.position);
-  f(table.velocity_, t.velocity);
-  f(table.angular_velocity_, t.angular_velocity);
-  f(table.radius_, t.radius);
-  f(table.inv_mass_, t.inv_mass);
-  f(table.material_, t.material);
-  f(table.color_, t.color);
-  f(table.still_time_, t.still_time);
-  f(table.asleep_, t.asleep);
-  f(table.entity_, t.entity);
-  f(table.generation_, t.generation);
+  f(table.position_);
+  f(table.velocity_);
+  f(table.angular_velocity_);
+  f(table.radius_);
+  f(table.inv_mass_);
+  f(table.material_);
+  f(table.color_);
+  f(table.still_time_);
+  f(table.asleep_);
+  f(table.entity_);
+  f(table.generation_);
 }
 
 void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
-  each_column(*this, [](auto& column, auto& target) { target.resize(column.size()); });
   const std::int64_t n = static_cast<std::int64_t>(entity_.size());
+  scratch_.resize(static_cast<std::size_t>(n) * sizeof(Vec3));  // the widest column
   moved_.resize(static_cast<std::size_t>(omp_get_max_threads()));
-  // One team for every column, each thread taking the same rows of each (nowait: no column
-  // waits for another). A region per column made eleven wake-ups of the team a step.
+  // One team for every column, each thread taking the same rows of each. A region per column
+  // made eleven wake-ups of the team a step.
 #pragma omp parallel
   {
     // A settled pit's reorder moves a tenth of the rows or less (100k pour: 4 to 13%): each
-    // thread lists the rows of its share that move and copies only those, through the
-    // targets and back. A busier reorder gathers every row into the targets and copies them
-    // all back: the columns keep their buffers, so a view of one (api/ballpit.h, the Python
-    // module) stays valid across steps.
+    // thread lists the rows of its share that move and copies only those, through the scratch
+    // and back. A busier reorder gathers every row. Either way the columns keep their buffers,
+    // so a view of one (api/ballpit.h, the Python module) stays valid across steps.
     std::vector<std::uint32_t>& mine = moved_[static_cast<std::size_t>(omp_get_thread_num())];
     mine.clear();
 #pragma omp for schedule(static)
@@ -157,33 +156,36 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
       if (new_to_old[i] != static_cast<std::uint32_t>(i)) mine.push_back(static_cast<std::uint32_t>(i));
     std::size_t moved = 0;  // after the loop's barrier, every thread's list is complete
     for (int t = 0; t < omp_get_num_threads(); ++t) moved += moved_[static_cast<std::size_t>(t)].size();
-    if (2 * moved < static_cast<std::size_t>(n)) {
-      each_column(*this, [&](auto& column, auto& target) {
-        if (!column.empty())
-          for (std::uint32_t i : mine) target[i] = column[new_to_old[i]];
-      });
+    const bool few = 2 * moved < static_cast<std::size_t>(n);
+    // A column at a time: gather its rows into the scratch, wait until every thread has read the
+    // rows it takes from others, copy them back. A thread writes and reads the same rows of the
+    // scratch for every column (its list, or its static share of the same n rows), so the next
+    // column's gather needs no second wait. Objects are made in the scratch by placement new:
+    // its bytes hold a column of another type a column before.
+    each_column(*this, [&](auto& column) {
+      using T = typename std::decay_t<decltype(column)>::value_type;
+      if (column.empty()) return;  // the spin column without spin: the same for every thread
+      T* out = reinterpret_cast<T*>(scratch_.data());
+      if (few) {
+        for (std::uint32_t i : mine) ::new (static_cast<void*>(out + i)) T(column[new_to_old[i]]);
+      } else {
+#pragma omp for schedule(static) nowait
+        for (std::int64_t i = 0; i < n; ++i) ::new (static_cast<void*>(out + i)) T(column[new_to_old[i]]);
+      }
 #pragma omp barrier
-      each_column(*this, [&](auto& column, auto& target) {
-        if (!column.empty())
-          for (std::uint32_t i : mine) column[i] = target[i];
-      });
+      if (few) {
+        for (std::uint32_t i : mine) column[i] = *std::launder(out + i);
+      } else {
+#pragma omp for schedule(static) nowait
+        for (std::int64_t i = 0; i < n; ++i) column[i] = *std::launder(out + i);
+      }
+    });
+    // Each thread maps the rows whose entity it copied back itself.
+    if (few) {
       for (std::uint32_t i : mine) row_of_[entity_[i]] = i;
     } else {
-      each_column(*this, [&](auto& column, auto& target) {
-        const std::int64_t rows = static_cast<std::int64_t>(column.size());  // 0 or n
-#pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < rows; ++i) target[i] = column[new_to_old[i]];
-      });
-#pragma omp barrier
-      // Every target is whole: copy each back, and map entities from the targets' copy.
-      each_column(*this, [](auto& column, auto& target) {
-        const std::int64_t rows = static_cast<std::int64_t>(column.size());
-#pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < rows; ++i) column[i] = target[i];
-      });
-      const std::uint32_t* entity = targets_.entity.data();
 #pragma omp for schedule(static)
-      for (std::int64_t i = 0; i < n; ++i) row_of_[entity[i]] = static_cast<std::uint32_t>(i);
+      for (std::int64_t i = 0; i < n; ++i) row_of_[entity_[i]] = static_cast<std::uint32_t>(i);
     }
   }
 }
@@ -191,20 +193,19 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
 SphereTable::HeldBytes SphereTable::held() const {
   HeldBytes h;
   h.columns = held_bytes(row_of_);
-  each_column(*this, [&](const auto& column, const auto& target) {
-    h.columns += held_bytes(column);
-    h.reorder += held_bytes(target);
-  });
+  each_column(*this, [&](const auto& column) { h.columns += held_bytes(column); });
+  h.reorder = held_bytes(scratch_);
   for (const auto& rows : moved_) h.reorder += held_bytes(rows);
   return h;
 }
 
 std::size_t SphereTable::bytes_per_sphere() const {
-  std::size_t b = sizeof(std::uint32_t);  // row_of_
-  each_column(*this, [&](const auto& column, const auto&) {
-    // Twice: the column and permute()'s target. The spin column exists only with spin.
+  // row_of_, and permute()'s scratch: as wide as the widest column.
+  std::size_t b = sizeof(std::uint32_t) + sizeof(Vec3);
+  each_column(*this, [&](const auto& column) {
+    // The spin column exists only with spin.
     if (&column != static_cast<const void*>(&angular_velocity_) || has_angular_)
-      b += 2 * sizeof(typename std::decay_t<decltype(column)>::value_type);
+      b += sizeof(typename std::decay_t<decltype(column)>::value_type);
   });
   return b;
 }
