@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <array>
 #include <cmath>
 #include <new>
 #include <sstream>
@@ -139,8 +140,29 @@ void SphereTable::each_column(Table& table, F&& f) {
 
 void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
   const std::int64_t n = static_cast<std::int64_t>(entity_.size());
-  scratch_.resize(static_cast<std::size_t>(n) * sizeof(Vec3));  // the widest column
+  scratch_.resize(static_cast<std::size_t>(n) * kSlot);
   moved_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+  // The columns in rounds, each round's side by side in a row's kSlot bytes, in column order:
+  // position and velocity; spin, radius, inverse mass, material (and colour without spin); the
+  // rest. Row i has bytes [kSlot i, kSlot (i + 1)) of the scratch in every round, whatever the
+  // columns' types, so a thread reads back just the bytes it wrote, for every round.
+  struct Place {
+    int round = -1;  // -1: an empty column (the spin column without spin)
+    std::size_t offset = 0;
+  };
+  std::array<Place, kColumns> place;
+  int rounds = 0, k = 0;
+  std::size_t offset = kSlot;
+  each_column(*this, [&](const auto& column) {
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    static_assert(sizeof(T) <= kSlot && kSlot % alignof(T) == 0);
+    Place& p = place[static_cast<std::size_t>(k++)];
+    if (column.empty()) return;
+    offset = (offset + alignof(T) - 1) / alignof(T) * alignof(T);
+    if (offset + sizeof(T) > kSlot) ++rounds, offset = 0;
+    p = {rounds - 1, offset};
+    offset += sizeof(T);
+  });
   // One team for every column, each thread taking the same rows of each. A region per column
   // made eleven wake-ups of the team a step.
 #pragma omp parallel
@@ -157,36 +179,40 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
     std::size_t moved = 0;  // after the loop's barrier, every thread's list is complete
     for (int t = 0; t < omp_get_num_threads(); ++t) moved += moved_[static_cast<std::size_t>(t)].size();
     const bool few = 2 * moved < static_cast<std::size_t>(n);
-    // A column at a time: gather its rows into the scratch, wait until every thread has read the
-    // rows it takes from others, copy them back. A thread writes and reads the same rows of the
-    // scratch for every column (its list, or its static share of the same n rows), so the next
-    // column's gather needs no second wait. Objects are made in the scratch by placement new:
-    // its bytes hold a column of another type a column before.
-    each_column(*this, [&](auto& column) {
-      using T = typename std::decay_t<decltype(column)>::value_type;
-      if (column.empty()) return;  // the spin column without spin: the same for every thread
-      T* out = reinterpret_cast<T*>(scratch_.data());
+    // Calls f(i) for this thread's rows: its list, or its static share of all n rows (the same
+    // share in every loop of the region: same count, same schedule).
+    auto each_row = [&](auto&& f) {
       if (few) {
-        for (std::uint32_t i : mine) ::new (static_cast<void*>(out + i)) T(column[new_to_old[i]]);
+        for (std::uint32_t i : mine) f(std::size_t{i});
       } else {
 #pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < n; ++i) ::new (static_cast<void*>(out + i)) T(column[new_to_old[i]]);
+        for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
       }
+    };
+    // A round at a time: gather its columns' rows into the scratch, wait until every thread has
+    // read the rows it takes from others, copy them back. The next round's gather writes only
+    // the bytes this thread has just read back, so it need not wait. Objects are made in the
+    // scratch by placement new: its bytes held columns of other types a round before.
+    std::byte* const slots = scratch_.data();
+    for (int round = 0; round < rounds; ++round) {
+      int column_index = 0;
+      each_column(*this, [&](auto& column) {
+        using T = typename std::decay_t<decltype(column)>::value_type;
+        const Place p = place[static_cast<std::size_t>(column_index++)];
+        if (p.round == round)
+          each_row([&](std::size_t i) { ::new (slots + i * kSlot + p.offset) T(column[new_to_old[i]]); });
+      });
 #pragma omp barrier
-      if (few) {
-        for (std::uint32_t i : mine) column[i] = *std::launder(out + i);
-      } else {
-#pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < n; ++i) column[i] = *std::launder(out + i);
-      }
-    });
-    // Each thread maps the rows whose entity it copied back itself.
-    if (few) {
-      for (std::uint32_t i : mine) row_of_[entity_[i]] = i;
-    } else {
-#pragma omp for schedule(static)
-      for (std::int64_t i = 0; i < n; ++i) row_of_[entity_[i]] = static_cast<std::uint32_t>(i);
+      column_index = 0;
+      each_column(*this, [&](auto& column) {
+        using T = typename std::decay_t<decltype(column)>::value_type;
+        const Place p = place[static_cast<std::size_t>(column_index++)];
+        if (p.round == round)
+          each_row([&](std::size_t i) { column[i] = *std::launder(reinterpret_cast<T*>(slots + i * kSlot + p.offset)); });
+      });
     }
+    // Each thread maps the rows whose entity it copied back itself.
+    each_row([&](std::size_t i) { row_of_[entity_[i]] = static_cast<std::uint32_t>(i); });
   }
 }
 
@@ -201,7 +227,7 @@ SphereTable::HeldBytes SphereTable::held() const {
 
 std::size_t SphereTable::bytes_per_sphere() const {
   // row_of_, and permute()'s scratch: as wide as the widest column.
-  std::size_t b = sizeof(std::uint32_t) + sizeof(Vec3);
+  std::size_t b = sizeof(std::uint32_t) + kSlot;
   each_column(*this, [&](const auto& column) {
     // The spin column exists only with spin.
     if (&column != static_cast<const void*>(&angular_velocity_) || has_angular_)

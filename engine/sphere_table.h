@@ -127,12 +127,16 @@ class SphereTable {
   std::vector<std::uint32_t> row_of_;  // entity index -> row, kNoRow if not a sphere
   bool has_angular_ = false;
 
-  // permute()'s scratch: each column in turn has its rows gathered here and copied back, so a
-  // reorder every step neither allocates nor zeroes a column and leaves each column where it
-  // was. One buffer as wide as the widest column (a Vec3), not a target per column: the targets
+  // permute()'s scratch: the columns' rows are gathered here and copied back, so a reorder every
+  // step neither allocates nor zeroes a column and leaves each column where it was. One buffer
+  // of 24 bytes a row, taking the columns in three rounds, not a target per column: the targets
   // cost 68 bytes a sphere, as much as the columns (issue 42; 100k pour, 1,403 B/sphere peak).
-  // (Swapping a column with its target instead saved the copy back but moved every column every
-  // step, so no view of one outlived a step.)
+  // A column a round, through 12 bytes a row, waited for the team eleven times a reorder: with
+  // 2 threads on 2 busy cores each wait could cost a time slice (test_determinism took 40 s, not
+  // 3). (Swapping a column with its target instead saved the copy back but moved every column
+  // every step, so no view of one outlived a step.)
+  static constexpr std::size_t kSlot = 2 * sizeof(Vec3);  // scratch bytes a row
+  static constexpr int kColumns = 11;
   Column<std::byte> scratch_;
   std::vector<std::vector<std::uint32_t>> moved_;  // permute(): each thread's rows that move
 };
