@@ -156,7 +156,7 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
   each_column(*this, [&](const auto& column) {
     using T = typename std::decay_t<decltype(column)>::value_type;
     static_assert(sizeof(T) <= kSlot && kSlot % alignof(T) == 0);
-    Place& p = place[static_cast<std::size_t>(k++)];
+    Place& p = place.at(static_cast<std::size_t>(k++));  // throws if a column was added without kColumns
     if (column.empty()) return;
     offset = (offset + alignof(T) - 1) / alignof(T) * alignof(T);
     if (offset + sizeof(T) > kSlot) ++rounds, offset = 0;

@@ -136,7 +136,7 @@ class SphereTable {
   // 3). (Swapping a column with its target instead saved the copy back but moved every column
   // every step, so no view of one outlived a step.)
   static constexpr std::size_t kSlot = 2 * sizeof(Vec3);  // scratch bytes a row
-  static constexpr int kColumns = 11;
+  static constexpr int kColumns = 11;  // each_column's count: a new column must raise it
   Column<std::byte> scratch_;
   std::vector<std::vector<std::uint32_t>> moved_;  // permute(): each thread's rows that move
 };
