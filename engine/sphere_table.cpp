@@ -2,7 +2,9 @@
 
 #include <omp.h>
 
+#include <array>
 #include <cmath>
+#include <new>
 #include <sstream>
 #include <type_traits>
 
@@ -127,34 +129,53 @@ void SphereTable::set_angular(bool enabled) {
 
 template <class Table, class F>
 void SphereTable::each_column(Table& table, F&& f) {
-  auto& t = table.targets_;
-  f(table.position_, t.position);
-  f(table.velocity_, t.velocity);
-  f(table.angular_velocity_, t.angular_velocity);
-  f(table.radius_, t.radius);
-  f(table.inv_mass_, t.inv_mass);
-  f(table.material_, t.material);
-  f(table.color_, t.color);
-  f(table.still_time_, t.still_time);
-  f(table.still_from_, t.still_from);
-  f(table.asleep_, t.asleep);
-  f(table.entity_, t.entity);
-  f(table.generation_, t.generation);
+  f(table.position_);
+  f(table.velocity_);
+  f(table.angular_velocity_);
+  f(table.radius_);
+  f(table.inv_mass_);
+  f(table.material_);
+  f(table.color_);
+  f(table.still_time_);
+  f(table.still_from_);
+  f(table.asleep_);
+  f(table.entity_);
+  f(table.generation_);
 }
 
 void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
-  each_column(*this, [](auto& column, auto& target) { target.resize(column.size()); });
   const std::int64_t n = static_cast<std::int64_t>(entity_.size());
+  scratch_.resize(static_cast<std::size_t>(n) * kSlot);
   moved_.resize(static_cast<std::size_t>(omp_get_max_threads()));
-  // One team for every column, each thread taking the same rows of each (nowait: no column
-  // waits for another). A region per column made eleven wake-ups of the team a step.
+  // The columns in rounds, each round's side by side in a row's kSlot bytes, in column order:
+  // position and velocity; spin, radius, inverse mass, material (and colour without spin); the
+  // rest. Row i has bytes [kSlot i, kSlot (i + 1)) of the scratch in every round, whatever the
+  // columns' types, so a thread reads back just the bytes it wrote, for every round.
+  struct Place {
+    int round = -1;  // -1: an empty column (the spin column without spin)
+    std::size_t offset = 0;
+  };
+  std::array<Place, kColumns> place;
+  int rounds = 0, k = 0;
+  std::size_t offset = kSlot;
+  each_column(*this, [&](const auto& column) {
+    using T = typename std::decay_t<decltype(column)>::value_type;
+    static_assert(sizeof(T) <= kSlot && kSlot % alignof(T) == 0);
+    Place& p = place.at(static_cast<std::size_t>(k++));  // throws if a column was added without kColumns
+    if (column.empty()) return;
+    offset = (offset + alignof(T) - 1) / alignof(T) * alignof(T);
+    if (offset + sizeof(T) > kSlot) ++rounds, offset = 0;
+    p = {rounds - 1, offset};
+    offset += sizeof(T);
+  });
+  // One team for every column, each thread taking the same rows of each. A region per column
+  // made eleven wake-ups of the team a step.
 #pragma omp parallel
   {
     // A settled pit's reorder moves a tenth of the rows or less (100k pour: 4 to 13%): each
-    // thread lists the rows of its share that move and copies only those, through the
-    // targets and back. A busier reorder gathers every row into the targets and copies them
-    // all back: the columns keep their buffers, so a view of one (api/ballpit.h, the Python
-    // module) stays valid across steps.
+    // thread lists the rows of its share that move and copies only those, through the scratch
+    // and back. A busier reorder gathers every row. Either way the columns keep their buffers,
+    // so a view of one (api/ballpit.h, the Python module) stays valid across steps.
     std::vector<std::uint32_t>& mine = moved_[static_cast<std::size_t>(omp_get_thread_num())];
     mine.clear();
 #pragma omp for schedule(static)
@@ -162,54 +183,60 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
       if (new_to_old[i] != static_cast<std::uint32_t>(i)) mine.push_back(static_cast<std::uint32_t>(i));
     std::size_t moved = 0;  // after the loop's barrier, every thread's list is complete
     for (int t = 0; t < omp_get_num_threads(); ++t) moved += moved_[static_cast<std::size_t>(t)].size();
-    if (2 * moved < static_cast<std::size_t>(n)) {
-      each_column(*this, [&](auto& column, auto& target) {
-        if (!column.empty())
-          for (std::uint32_t i : mine) target[i] = column[new_to_old[i]];
+    const bool few = 2 * moved < static_cast<std::size_t>(n);
+    // Calls f(i) for this thread's rows: its list, or its static share of all n rows (the same
+    // share in every loop of the region: same count, same schedule).
+    auto each_row = [&](auto&& f) {
+      if (few) {
+        for (std::uint32_t i : mine) f(std::size_t{i});
+      } else {
+#pragma omp for schedule(static) nowait
+        for (std::int64_t i = 0; i < n; ++i) f(static_cast<std::size_t>(i));
+      }
+    };
+    // A round at a time: gather its columns' rows into the scratch, wait until every thread has
+    // read the rows it takes from others, copy them back. The next round's gather writes only
+    // the bytes this thread has just read back, so it need not wait. Objects are made in the
+    // scratch by placement new: its bytes held columns of other types a round before.
+    std::byte* const slots = scratch_.data();
+    for (int round = 0; round < rounds; ++round) {
+      int column_index = 0;
+      each_column(*this, [&](auto& column) {
+        using T = typename std::decay_t<decltype(column)>::value_type;
+        const Place p = place[static_cast<std::size_t>(column_index++)];
+        if (p.round == round)
+          each_row([&](std::size_t i) { ::new (slots + i * kSlot + p.offset) T(column[new_to_old[i]]); });
       });
 #pragma omp barrier
-      each_column(*this, [&](auto& column, auto& target) {
-        if (!column.empty())
-          for (std::uint32_t i : mine) column[i] = target[i];
+      column_index = 0;
+      each_column(*this, [&](auto& column) {
+        using T = typename std::decay_t<decltype(column)>::value_type;
+        const Place p = place[static_cast<std::size_t>(column_index++)];
+        if (p.round == round)
+          each_row([&](std::size_t i) { column[i] = *std::launder(reinterpret_cast<T*>(slots + i * kSlot + p.offset)); });
       });
-      for (std::uint32_t i : mine) row_of_[entity_[i]] = i;
-    } else {
-      each_column(*this, [&](auto& column, auto& target) {
-        const std::int64_t rows = static_cast<std::int64_t>(column.size());  // 0 or n
-#pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < rows; ++i) target[i] = column[new_to_old[i]];
-      });
-#pragma omp barrier
-      // Every target is whole: copy each back, and map entities from the targets' copy.
-      each_column(*this, [](auto& column, auto& target) {
-        const std::int64_t rows = static_cast<std::int64_t>(column.size());
-#pragma omp for schedule(static) nowait
-        for (std::int64_t i = 0; i < rows; ++i) column[i] = target[i];
-      });
-      const std::uint32_t* entity = targets_.entity.data();
-#pragma omp for schedule(static)
-      for (std::int64_t i = 0; i < n; ++i) row_of_[entity[i]] = static_cast<std::uint32_t>(i);
     }
+    // Each thread maps the rows whose entity it copied back itself.
+    each_row([&](std::size_t i) { row_of_[entity_[i]] = static_cast<std::uint32_t>(i); });
   }
 }
 
 SphereTable::HeldBytes SphereTable::held() const {
   HeldBytes h;
   h.columns = held_bytes(row_of_);
-  each_column(*this, [&](const auto& column, const auto& target) {
-    h.columns += held_bytes(column);
-    h.reorder += held_bytes(target);
-  });
+  each_column(*this, [&](const auto& column) { h.columns += held_bytes(column); });
+  h.reorder = held_bytes(scratch_);
   for (const auto& rows : moved_) h.reorder += held_bytes(rows);
   return h;
 }
 
 std::size_t SphereTable::bytes_per_sphere() const {
-  std::size_t b = sizeof(std::uint32_t);  // row_of_
-  each_column(*this, [&](const auto& column, const auto&) {
-    // Twice: the column and permute()'s target. The spin column exists only with spin.
+  // row_of_, and permute()'s scratch: as wide as the widest column.
+  std::size_t b = sizeof(std::uint32_t) + kSlot;
+  each_column(*this, [&](const auto& column) {
+    // The spin column exists only with spin.
     if (&column != static_cast<const void*>(&angular_velocity_) || has_angular_)
-      b += 2 * sizeof(typename std::decay_t<decltype(column)>::value_type);
+      b += sizeof(typename std::decay_t<decltype(column)>::value_type);
   });
   return b;
 }

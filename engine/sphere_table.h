@@ -11,6 +11,7 @@
 // spin a smooth sphere, and the column would cost 12 bytes a sphere for nothing.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -91,9 +92,9 @@ class SphereTable {
   // new_to_old must be a permutation of [0, size()). Each column keeps its buffer.
   void permute(std::span<const std::uint32_t> new_to_old);
 
-  // Bytes held per sphere by the columns, permute()'s targets included (for the memory report).
+  // Bytes held per sphere by the columns, permute()'s scratch included (for the memory report).
   std::size_t bytes_per_sphere() const;
-  // Bytes the columns (with the entity -> row map) and permute()'s targets hold now.
+  // Bytes the columns (with the entity -> row map) and permute()'s scratch hold now.
   struct HeldBytes {
     std::size_t columns = 0, reorder = 0;
   };
@@ -110,7 +111,7 @@ class SphereTable {
     check_access(id, true);
     return {c.data(), c.size()};
   }
-  // Calls f(column, target) for every column of `table` and its permute() target (const or not).
+  // Calls f(column) for every column of `table` (const or not).
   template <class Table, class F>
   static void each_column(Table& table, F&& f);
 
@@ -129,17 +130,17 @@ class SphereTable {
   std::vector<std::uint32_t> row_of_;  // entity index -> row, kNoRow if not a sphere
   bool has_angular_ = false;
 
-  // permute()'s targets: rows are gathered here and copied back, so a reorder every step
-  // neither allocates nor zeroes a column, gathers them all in one parallel region, and leaves
-  // each column where it was. (Swapping a column with its target instead saved the copy back
-  // but moved every column every step, so no view of one outlived a step.)
-  struct Targets {
-    Column<Vec3> position, velocity, angular_velocity, still_from;
-    Column<float> radius, inv_mass, still_time;
-    Column<std::uint16_t> material;
-    Column<std::uint32_t> color, entity, generation;
-    Column<std::uint8_t> asleep;
-  } targets_;
+  // permute()'s scratch: the columns' rows are gathered here and copied back, so a reorder every
+  // step neither allocates nor zeroes a column and leaves each column where it was. One buffer
+  // of 24 bytes a row, taking the columns in three rounds, not a target per column: the targets
+  // cost 68 bytes a sphere, as much as the columns (issue 42; 100k pour, 1,403 B/sphere peak).
+  // A column a round, through 12 bytes a row, waited for the team eleven times a reorder: with
+  // 2 threads on 2 busy cores each wait could cost a time slice (test_determinism took 40 s, not
+  // 3). (Swapping a column with its target instead saved the copy back but moved every column
+  // every step, so no view of one outlived a step.)
+  static constexpr std::size_t kSlot = 2 * sizeof(Vec3);  // scratch bytes a row
+  static constexpr int kColumns = 12;  // each_column's count: a new column must raise it
+  Column<std::byte> scratch_;
   std::vector<std::vector<std::uint32_t>> moved_;  // permute(): each thread's rows that move
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "engine/list_capacity.h"
 #include "systems/batch_kernels.h"
 #include "systems/solver_bodies.h"
 
@@ -91,11 +92,14 @@ void fill(ContactBatch& batch, int lane, const Contact& c, float reach) {
 }
 
 void start(ContactLists lists, BatchList& out) {
-  out.clear();
   std::size_t contacts = 0;
   for (const std::vector<Contact>* list : lists) contacts += list->size();
   // Room for 90% full batches without growing: growing copies every batch made so far.
-  out.reserve(contacts * 10 / (9 * kBatchLanes) + kOpenBatches);
+  const std::size_t room = contacts * 10 / (9 * kBatchLanes) + kOpenBatches;
+  // Last step's batches, or this one's room if more: capacity from the pour's peak goes back.
+  release_excess_capacity(out, std::max(out.size(), room));
+  out.clear();
+  out.reserve(room);
 }
 
 // The lanes no contact took: immobile padding bodies with a finite frame and nothing to apply.

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "engine/error.h"
+#include "engine/list_capacity.h"
 #include "engine/memory_use.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
@@ -597,9 +598,10 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
     const auto [first, last] = thread_share(slabs, [&](int s) { return std::size_t{grid.slab_row_begin(s)}; });
     for (int s = first; s < last; ++s) {
       SlabContacts& out = contacts.slabs[s];
-      out.pairs.clear();
-      out.statics.clear();
-      out.serial.clear();
+      for (std::vector<Contact>* list : {&out.pairs, &out.statics, &out.serial}) {
+        release_excess_capacity(*list, list->size());  // the slab's peak, once it has passed
+        list->clear();
+      }
       const std::uint32_t begin = grid.slab_row_begin(s), end = grid.slab_row_begin(s + 1);
       if (naive) {
         for (std::uint32_t i = begin; i < end; ++i) search.naive_pairs(i, s, out);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "engine/error.h"
+#include "engine/list_capacity.h"
 #include "engine/memory_use.h"
 #include "engine/thread_share.h"
 #include "engine/world.h"
@@ -584,6 +585,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
     }
   }
   for (std::size_t i = 0; i < n; ++i) cs.warm_begin[i + 1] += cs.warm_begin[i];
+  release_excess_capacity(cs.warm, cs.warm_begin[n]);  // two steps old: nothing in it is read
   cs.warm.resize(cs.warm_begin[n]);
   std::vector<std::uint32_t> cursor(cs.warm_begin.begin(), cs.warm_begin.end() - 1);
   each([&](std::uint32_t a, std::uint32_t b, float normal, const Vec3& friction) {
