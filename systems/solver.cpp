@@ -587,7 +587,8 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
   for (std::size_t i = 0; i < n; ++i) cs.warm_begin[i + 1] += cs.warm_begin[i];
   release_excess_capacity(cs.warm, cs.warm_begin[n]);  // two steps old: nothing in it is read
   cs.warm.resize(cs.warm_begin[n]);
-  std::vector<std::uint32_t> cursor(cs.warm_begin.begin(), cs.warm_begin.end() - 1);
+  std::vector<std::uint32_t>& cursor = scratch.warm_cursor;
+  cursor.assign(cs.warm_begin.begin(), cs.warm_begin.end() - 1);
   each([&](std::uint32_t a, std::uint32_t b, float normal, const Vec3& friction) {
     const std::uint32_t partner = (b & kTagMask) ? b : entity[b];
     cs.warm[cursor[a]++] = {partner, normal, friction};
@@ -612,7 +613,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
 
 std::vector<MemoryItem> solver_held(const SolverScratch& s) {
   std::size_t kept = held_bytes(s.previous_warm_begin) + held_bytes(s.previous_warm) + held_bytes(s.kept_by_thread) +
-                     held_bytes(s.kept_count) + held_bytes(s.asleep_by_entity);
+                     held_bytes(s.kept_count) + held_bytes(s.asleep_by_entity) + held_bytes(s.warm_cursor);
   for (const std::vector<WarmStartEntry>& k : s.kept_by_thread) kept += held_bytes(k);
   std::size_t batches = held_bytes(s.serial), lists = held_bytes(s.serial_pairs) + held_bytes(s.last_batch) +
                                                       held_bytes(s.even_group_rows);

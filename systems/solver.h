@@ -106,6 +106,10 @@ struct SolverScratch {
   std::vector<std::vector<WarmStartEntry>> kept_by_thread;
   std::vector<std::uint32_t> kept_count;
   std::vector<std::uint8_t> asleep_by_entity;  // by entity index: the sphere sleeps
+  // Where each row's next entry goes as the cache is filled. Kept, not made each step: a
+  // buffer this size (4 bytes a sphere) comes fresh from mmap, and faults in page by page,
+  // every step (ballpit sets glibc's mmap threshold, app/main.cpp).
+  std::vector<std::uint32_t> warm_cursor;
 };
 
 // What the scratch holds: bodies, batches, the groups' lists, the last step's warm-start cache.
