@@ -62,6 +62,17 @@ inline constexpr float kSleepRegionDiameters = 3.0f;
 // (systems/sleeping.cpp), whatever the blow.
 inline constexpr float kStruckWakeFactor = 4.0f;
 
+// A moving sphere wakes the sleeping regions it may reach in the coming step only when faster
+// than this many times wake_speed; slower, a sleeper it meets stops it as the pile would (it is
+// a fixed body with its loads kept), and the blow, at most the mover's own speed, stays under
+// the struck wake above. Movers past wake_speed still keep the regions they may reach from
+// falling asleep. At once the wake speed, the walking marine's footfalls woke balls 2 m away
+// through chains of movers at 5-10 cm/s: 75,000 of the 100k pit awake on average, against
+// 51,000 at twice (the walk's first half 29.4 -> 20.2 ms a step), with the same per-step
+// deepest overlap (profiling/reports/sleeping.md, "What keeps balls awake"). At four times a
+// stirred corner's pushed balls wandered into the sleeping pile past the regions that wake.
+inline constexpr float kApproachWakeFactor = 2.0f;
+
 struct SleepRegions {
   static constexpr float kMostTiles = 1024.0f;  // along each axis: at most a million regions
 

@@ -57,15 +57,15 @@ SleepRegions regions_of(const World& world) { return {world.pit, world.gravity()
 // Marks every region that a moving awake sphere or a moving joint collider may reach within the
 // coming step: the box of the mover's travel, grown by its radius, the largest sphere's and the
 // drop under gravity (a sleeper's centre in a marked region is all a touch needs). A sphere
-// counts as moving above wake_speed, as the solver's blows do.
-void mark_motion(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& marks) {
+// counts as moving above `sphere_speed`; a collider above wake_speed.
+void mark_motion(const World& world, const SleepRegions& regions, float sphere_speed, std::vector<std::uint8_t>& marks) {
   const SphereTable& spheres = world.spheres;
   auto x = spheres.position();
   auto v = spheres.velocity();
   auto r = spheres.radius();
   auto asleep = spheres.asleep();
   const float dt = world.step();
-  const float wake2 = world.solver.wake_speed * world.solver.wake_speed;
+  const float wake2 = sphere_speed * sphere_speed;
   const float reach = largest_radius(world) + world.gravity().norm() * dt * dt;
   const std::int64_t n = static_cast<std::int64_t>(row_spans(asleep).awake_end);
 #pragma omp parallel for schedule(static)
@@ -175,7 +175,7 @@ std::size_t wake_approached(World& world) {
   if (!any_asleep(world.spheres.asleep())) return 0;
   const SleepRegions regions = regions_of(world);
   std::vector<std::uint8_t> marks(regions.size(), 0);
-  mark_motion(world, regions, marks);
+  mark_motion(world, regions, kApproachWakeFactor * world.solver.wake_speed, marks);
   if (std::find(marks.begin(), marks.end(), std::uint8_t{1}) == marks.end()) return 0;
   return wake_marked(world, regions, marks);
 }
@@ -237,7 +237,7 @@ void update_sleep(World& world) {
   // motion may reach in the next step (which would only wake them again), and those with a
   // deep contact in or next to them (above). Rows come sorted by grid cell, so runs of rows
   // share a region: each thread marks a region once per run.
-  mark_motion(world, regions, restless);
+  mark_motion(world, regions, s.wake_speed, restless);
 #pragma omp parallel
   {
     std::uint32_t last = ~0u;

@@ -6,7 +6,7 @@
 // floor and its walls are neither found nor solved, and the warm-start cache keeps their
 // impulses (systems/solver.cpp), so it wakes carrying the load it carried.
 // A region wakes, before the step that could reach it, when a moving sphere (faster than
-// wake_speed) or a moving joint collider comes within a step's travel of it; after a step, when
+// kApproachWakeFactor x wake_speed) or a moving joint collider comes within a step's travel of it; after a step, when
 // the solver struck one of its sleepers harder than wake_speed (a ball it held up moved away,
 // or landed on it); and everywhere when gravity changes (World::set_gravity). Waking is by
 // region, so it spreads only as far as motion does.

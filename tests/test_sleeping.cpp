@@ -275,6 +275,52 @@ TEST(Sleeping, APileSleepsRegionByRegionWhileOneCornerIsStirred) {
   EXPECT_GT(c.far_asleep, s.world.spheres.size() / 2);
 }
 
+namespace {
+
+// A ball rolled along the floor at `speed` into a sleeping 3 x 3 patch of balls, from 5 cm
+// away: the sleepers before it rolls, the fewest while it rolls for a second, and the deepest
+// overlap in that time.
+struct Roll {
+  std::size_t sleepers_before = 0, fewest_sleepers = 0;
+  double deepest_r = 0.0;
+};
+Roll roll_into_sleeping_patch(float speed) {
+  const float r = 0.04f, spacing = 2.0f * r + 0.001f;
+  test::Sim s;
+  test::make_pit(s.world, 0.6f, 0.5f, 0.5f);
+  s.world.solver.sleeping = true;
+  for (int i = -1; i <= 1; ++i)
+    for (int k = -1; k <= 1; ++k) test::add_ball(s.world, Vec3(i * spacing, r, k * spacing));
+  s.start(1);
+  s.step(60);  // still from the start: asleep after sleep_time (0.5 s)
+  Roll out;
+  out.sleepers_before = out.fewest_sleepers = sleepers(s.world);
+  test::add_ball(s.world, Vec3(-spacing - 2.0f * r - 0.05f, r, 0.0f), Vec3(speed, 0.0f, 0.0f));
+  for (int k = 0; k < 60; ++k) {
+    s.step();
+    out.fewest_sleepers = std::min(out.fewest_sleepers, sleepers(s.world));
+    out.deepest_r = std::max(out.deepest_r, measure(s.world).max_penetration_r);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Sleeping, ASlowBallRestsAgainstSleepersWithoutWakingThemAndAFastOneWakesThem) {
+  // A sphere slower than kApproachWakeFactor x wake_speed (0.1 m/s) meets sleepers as the fixed
+  // pile they are: it stops against them and wakes nothing (at once the wake speed, chains of
+  // such movers woke the marine's pit 2 m around him, issue 39). Nor may it sink into them: the
+  // deepest overlap stays within the settled bound, 1% r.
+  const Roll slow = roll_into_sleeping_patch(0.08f);
+  ASSERT_EQ(slow.sleepers_before, 9u) << "the patch did not fall asleep";
+  EXPECT_EQ(slow.fewest_sleepers, 9u) << "a ball at 0.08 m/s woke the patch";
+  EXPECT_LT(slow.deepest_r, 0.01);
+  // Past the factor, the regions it may reach wake before it reaches them.
+  const Roll fast = roll_into_sleeping_patch(0.3f);
+  EXPECT_LT(fast.fewest_sleepers, 9u) << "a ball at 0.3 m/s woke nothing";
+  EXPECT_LT(fast.deepest_r, 0.01);
+}
+
 TEST(Sleeping, ABallDroppedOnASleepingPileWakesOnlyTheRegionItReaches) {
   test::Sim s;
   shallow_pile(s);

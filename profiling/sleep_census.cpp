@@ -1,0 +1,145 @@
+// Why spheres are awake (issue 39): runs a scene or a snapshot as `ballpit run` does and, every
+// --every steps, counts the awake spheres by what keeps them awake and by how far they are from
+// the nearest joint collider. One JSON line per census on stdout, the run's report line last.
+//
+// What keeps a sphere awake, checked in this order (systems/sleeping.cpp):
+// - moving: faster than wake_speed (it keeps the regions it may reach from falling asleep, and
+//   past kApproachWakeFactor times that it wakes them);
+// - slow: faster than sleep_speed, not past wake_speed;
+// - drifting: slower than sleep_speed but its still clock was restarted by the drift rule or has
+//   not yet run sleep_time;
+// - held: still for sleep_time, but its region is restless (a neighbour in it moves, motion may
+//   reach it, or it has a deep contact).
+//
+//   sleep_census --load pit.snap --steps 600 --every 30
+//   sleep_census --scene scenes/pit_character.json --set features.sleeping=true ...
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "app/headless_run.h"
+#include "engine/error.h"
+#include "engine/world.h"
+
+namespace {
+
+using namespace ballpit;
+
+// Distance bins from the nearest collider's surface (unit: m): the limbs' reach, a stride, the
+// pile around him, the rest of the pit.
+constexpr std::array<float, 4> kBinEdges = {0.25f, 0.5f, 1.0f, 2.0f};
+
+float segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const float len2 = ab.squaredNorm();
+  const float t = len2 > 0.0f ? std::clamp((p - a).dot(ab) / len2, 0.0f, 1.0f) : 0.0f;
+  return (p - (a + t * ab)).norm();
+}
+
+struct Census {
+  std::size_t awake = 0, moving = 0, slow = 0, drifting = 0, held = 0;
+  std::array<std::size_t, kBinEdges.size() + 1> by_distance{}, moving_by_distance{};
+  std::array<std::size_t, 4> moving_by_speed{};  // wake_speed x (1-2, 2-4, 4-8, over 8)
+  float worst_pair_r = 0.0f;  // deepest listed sphere-sphere overlap, as a fraction of the smaller radius
+};
+
+// The deepest overlap among the step's listed sphere pairs (sleeper pairs are not listed: they
+// did not move).
+float worst_pair_overlap(const World& world) {
+  const auto x = world.spheres.position();
+  const auto r = world.spheres.radius();
+  float worst = 0.0f;
+  auto visit = [&](const Contact& c) {
+    if (c.b & kTagMask) return;
+    const float depth = r[c.a] + r[c.b] - (x[c.a] - x[c.b]).norm();
+    worst = std::max(worst, depth / std::min(r[c.a], r[c.b]));
+  };
+  for (const SlabContacts& slab : world.contacts.slabs) {
+    for (const Contact& c : slab.pairs) visit(c);
+    for (const Contact& c : slab.serial) visit(c);
+  }
+  return worst;
+}
+
+Census take_census(const World& world) {
+  Census c;
+  const auto x = world.spheres.position();
+  const auto v = world.spheres.velocity();
+  const auto asleep = world.spheres.asleep();
+  const auto still = world.spheres.still_time();
+  const auto ca = world.colliders.a();
+  const auto cb = world.colliders.b();
+  const auto cr = world.colliders.radius();
+  const SolverSettings& s = world.solver;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (asleep[i]) continue;
+    ++c.awake;
+    const float speed = v[i].norm();
+    if (speed > s.wake_speed) ++c.moving;
+    else if (speed > s.sleep_speed) ++c.slow;
+    else if (still[i] < s.sleep_time) ++c.drifting;
+    else ++c.held;
+    float d = std::numeric_limits<float>::infinity();
+    for (std::size_t k = 0; k < world.colliders.size(); ++k) d = std::min(d, segment_distance(x[i], ca[k], cb[k]) - cr[k]);
+    std::size_t bin = 0;
+    while (bin < kBinEdges.size() && d > kBinEdges[bin]) ++bin;
+    ++c.by_distance[bin];
+    if (speed > s.wake_speed) {
+      ++c.moving_by_distance[bin];
+      const float f = speed / s.wake_speed;
+      ++c.moving_by_speed[f < 2.0f ? 0 : f < 4.0f ? 1 : f < 8.0f ? 2 : 3];
+    }
+  }
+  c.worst_pair_r = worst_pair_overlap(world);
+  return c;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  RunOptions run;
+  run.progress = false;
+  run.print_table = false;
+  int every = 30;
+  CLI::App app{"Counts the awake spheres by what keeps them awake (issue 39)"};
+  app.add_option("--scene", run.scene, "Scene name or file");
+  app.add_option("--set", run.set, "key.path=value overrides of the scene");
+  app.add_option("--load", run.load_path, "Resume from this snapshot");
+  app.add_option("--steps", run.steps, "Steps to run")->check(CLI::PositiveNumber);
+  app.add_option("--threads", run.threads, "Threads")->check(CLI::PositiveNumber);
+  app.add_option("--every", every, "Steps between censuses")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+
+  int step = 0;
+  run.after_step = [&](const World& world) {
+    ++step;
+    if (step % every) return;
+    const Census c = take_census(world);
+    nlohmann::ordered_json j;
+    j["step"] = step;
+    j["awake"] = c.awake;
+    j["moving"] = c.moving;
+    j["slow"] = c.slow;
+    j["drifting"] = c.drifting;
+    j["held"] = c.held;
+    j["near_0.25m"] = c.by_distance[0];
+    j["near_0.5m"] = c.by_distance[1];
+    j["near_1m"] = c.by_distance[2];
+    j["near_2m"] = c.by_distance[3];
+    j["beyond_2m"] = c.by_distance[4];
+    j["moving_by_distance"] = c.moving_by_distance;
+    j["moving_by_speed"] = c.moving_by_speed;
+    j["worst_pair_r"] = c.worst_pair_r;
+    std::cout << j.dump() << std::endl;
+  };
+  std::cout << run_headless(run).dump() << std::endl;
+  return 0;
+} catch (const ballpit::Error& e) {
+  std::fprintf(stderr, "sleep_census: %s\n", e.what());
+  return 1;
+}
