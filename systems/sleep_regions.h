@@ -125,6 +125,18 @@ struct SleepRegions {
       for (int b = b0; b <= b1; ++b) mark(marks[static_cast<std::size_t>(a) * count[1] + b]);
   }
 
+  // Sets out[r] for every region within `tiles` tiles of a region with marks set (out sized here).
+  void dilate(const std::vector<std::uint8_t>& marks, int tiles, std::vector<std::uint8_t>& out) const {
+    out.assign(size(), 0);
+    for (int a = 0; a < count[0]; ++a)
+      for (int b = 0; b < count[1]; ++b) {
+        if (!marks[static_cast<std::size_t>(a) * count[1] + b]) continue;
+        for (int i = std::max(a - tiles, 0); i <= std::min(a + tiles, count[0] - 1); ++i)
+          std::memset(&out[static_cast<std::size_t>(i) * count[1] + std::max(b - tiles, 0)], 1,
+                      static_cast<std::size_t>(std::min(b + tiles, count[1] - 1) - std::max(b - tiles, 0) + 1));
+      }
+  }
+
   // Sets one mark. It is read first: most marks are set already, and a store from every row
   // would bounce the marks' cache lines between the cores (the sleep update of an awake 100k
   // pit took 2.8 ms a step instead of 0.3).

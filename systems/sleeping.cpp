@@ -95,9 +95,12 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
 //   pair left awake among sleepers that cannot yield stays as deep for good (the 10k pour kept
 //   three pairs 1.0 to 1.5% r deep, awake and still for 6 s, against 0.16% at most with
 //   sleeping off). Planes count; colliders do not (a limb pressing on a ball keeps its region
-//   awake by its motion, mark_motion).
-void mark_contacts(const World& world, const SleepRegions& regions, std::vector<std::uint8_t>& pressed,
-                   std::vector<std::uint8_t>* deep) {
+//   awake by its motion, mark_motion). Only contacts whose first sphere lies in a region of
+//   `near` are looked at for this: the regions within two tiles of one that could fall asleep,
+//   which holds every region a mark could matter to (a partner is nearer than a region's width).
+//   While a pit pours, or a crowd moves, few are, and the pass skips their contacts unread.
+void mark_contacts(const World& world, const SleepRegions& regions, bool sleepers, std::vector<std::uint8_t>& pressed,
+                   const std::vector<std::uint8_t>* near, std::vector<std::uint8_t>* deep) {
   auto x = world.spheres.position();
   auto r = world.spheres.radius();
   auto asleep = world.spheres.asleep();
@@ -113,12 +116,18 @@ void mark_contacts(const World& world, const SleepRegions& regions, std::vector<
     const float reach = r[c.a] + r[c.b] - fraction * std::min(r[c.a], r[c.b]);
     return (x[c.a] - x[c.b]).squaredNorm() < reach * reach;
   };
-  auto check = [&](const Contact& c) {
-    if (!deeper(c, kSleepOverlapFraction)) return;  // most contacts
+  // A sphere's contacts lie together in a list, so its region is looked up once for them all.
+  struct Cursor {
+    std::uint32_t row = ~0u;
+    bool near = false;
+  };
+  auto check = [&](const Contact& c, Cursor& at) {
+    if (near && c.a != at.row) at = {c.a, (*near)[regions.of(x[c.a])] != 0};
     const bool pair = !(c.b & kTagMask);
-    if (pair && asleep[c.a] != asleep[c.b] && deeper(c, kPressedWakeFraction))
-      set_mark(pressed[regions.of(x[asleep[c.a] ? c.a : c.b])]);
-    if (deep) {
+    const bool press = sleepers && pair && asleep[c.a] != asleep[c.b];
+    if (!(press || at.near) || !deeper(c, kSleepOverlapFraction)) return;  // most contacts
+    if (press && deeper(c, kPressedWakeFraction)) set_mark(pressed[regions.of(x[asleep[c.a] ? c.a : c.b])]);
+    if (at.near) {
       regions.mark_box(x[c.a] - around, x[c.a] + around, *deep);
       if (pair) regions.mark_box(x[c.b] - around, x[c.b] + around, *deep);
     }
@@ -127,9 +136,10 @@ void mark_contacts(const World& world, const SleepRegions& regions, std::vector<
   const int count = static_cast<int>(slabs.size());
 #pragma omp parallel for schedule(dynamic, 4)
   for (int k = 0; k < count; ++k) {
-    for (const Contact& c : slabs[k].pairs) check(c);
-    for (const Contact& c : slabs[k].statics) check(c);
-    for (const Contact& c : slabs[k].serial) check(c);
+    Cursor at;
+    for (const Contact& c : slabs[k].pairs) check(c, at);
+    for (const Contact& c : slabs[k].statics) check(c, at);
+    for (const Contact& c : slabs[k].serial) check(c, at);
   }
 }
 
@@ -217,38 +227,58 @@ void update_sleep(World& world) {
     ready = ready || still[i] >= s.sleep_time;
   }
 
+  // Restless regions: those with an awake sphere not yet still for sleep_time, and those that
+  // motion may reach in the next step (which would only wake them again); the contacts below
+  // add those with a deep contact in or next to them. Rows come sorted by grid cell, so runs of
+  // rows share a region: each thread marks a region once per run. The regions left, with an
+  // awake sphere in them, are the candidates: all that may fall asleep after this step.
+  std::vector<std::uint8_t> restless, candidates, near;
+  bool any_candidate = false;
+  if (ready) {
+    restless.assign(regions.size(), 0);
+    candidates.assign(regions.size(), 0);
+    mark_motion(world, regions, s.wake_speed, restless);
+#pragma omp parallel
+    {
+      std::uint32_t last = ~0u;
+#pragma omp for schedule(static)
+      for (std::int64_t i = 0; i < n; ++i) {
+        if (asleep[i] || still[i] >= s.sleep_time) continue;
+        const std::uint32_t region = regions.of(x[i]);
+        if (region != last) set_mark(restless[region]);
+        last = region;
+      }
+#pragma omp for schedule(static) reduction(|| : any_candidate)
+      for (std::int64_t i = 0; i < n; ++i) {
+        if (asleep[i]) continue;
+        const std::uint32_t region = regions.of(x[i]);
+        if (restless[region]) continue;
+        set_mark(candidates[region]);
+        any_candidate = true;
+      }
+    }
+    if (any_candidate) regions.dilate(candidates, 2, near);
+  }
+
   // A sleeper the solver struck hard (kStruckWakeFactor), or that an awake sphere presses deeper
   // than the bound, wakes with its region: the step treated it as fixed, the next one moves it.
-  // Its clock starts again, so its region is restless below.
-  std::vector<std::uint8_t> struck(regions.size(), 0), restless;
-  if (ready) restless.assign(regions.size(), 0);
+  // Its clock starts again, so its region is restless too.
+  std::vector<std::uint8_t> struck(regions.size(), 0);
   const bool sleepers = any_asleep(spheres.asleep());
   const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
   if (sleepers && requests.size() == spheres.size())
     for (std::size_t i = spans.asleep_begin; i < requests.size(); ++i)
       if (requests[i]) struck[regions.of(x[i])] = 1;
-  if (sleepers || ready) mark_contacts(world, regions, struck, ready ? &restless : nullptr);
-  // Spheres it wakes are awake rows among the sleepers': the passes below take every row then.
-  if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end() && wake_marked(world, regions, struck) > 0)
+  if (sleepers || any_candidate)
+    mark_contacts(world, regions, sleepers, struck, any_candidate ? &near : nullptr, any_candidate ? &restless : nullptr);
+  // Spheres it wakes are awake rows among the sleepers': the pass below takes every row then.
+  if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end() && wake_marked(world, regions, struck) > 0) {
     n = static_cast<std::int64_t>(spheres.size());
-  if (!ready) return;
-
-  // Restless regions: those with an awake sphere not yet still for sleep_time, those that
-  // motion may reach in the next step (which would only wake them again), and those with a
-  // deep contact in or next to them (above). Rows come sorted by grid cell, so runs of rows
-  // share a region: each thread marks a region once per run.
-  mark_motion(world, regions, s.wake_speed, restless);
-#pragma omp parallel
-  {
-    std::uint32_t last = ~0u;
-#pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < n; ++i) {
-      if (asleep[i] || still[i] >= s.sleep_time) continue;
-      const std::uint32_t region = regions.of(x[i]);
-      if (region != last) set_mark(restless[region]);
-      last = region;
-    }
+    if (any_candidate)
+      for (std::size_t k = 0; k < struck.size(); ++k) restless[k] |= struck[k];
   }
+  if (!any_candidate) return;  // every awake sphere's region is restless
+
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i)
     if (!asleep[i] && !restless[regions.of(x[i])]) {
