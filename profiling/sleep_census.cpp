@@ -8,8 +8,9 @@
 // - slow: faster than sleep_speed, not past wake_speed;
 // - drifting: slower than sleep_speed but its still clock was restarted by the drift rule or has
 //   not yet run sleep_time;
-// - held: still for sleep_time, but its region is restless (a neighbour in it moves, motion may
-//   reach it, or it has a deep contact).
+// - held: still for sleep_time, but its region is restless: by a sphere in it not yet still
+//   (held_by_unstill), or else by motion that may reach it or a deep contact in or next to it
+//   (held_otherwise).
 //
 //   sleep_census --load pit.snap --steps 600 --every 30
 //   sleep_census --scene scenes/pit_character.json --set features.sleeping=true ...
@@ -25,6 +26,7 @@
 #include "app/headless_run.h"
 #include "engine/error.h"
 #include "engine/world.h"
+#include "systems/sleep_regions.h"
 
 namespace {
 
@@ -42,7 +44,7 @@ float segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 }
 
 struct Census {
-  std::size_t awake = 0, moving = 0, slow = 0, drifting = 0, held = 0;
+  std::size_t awake = 0, moving = 0, slow = 0, drifting = 0, held = 0, held_by_unstill = 0;
   std::array<std::size_t, kBinEdges.size() + 1> by_distance{}, moving_by_distance{};
   std::array<std::size_t, 4> moving_by_speed{};  // wake_speed x (1-2, 2-4, 4-8, over 8)
   float worst_pair_r = 0.0f;  // deepest listed sphere-sphere overlap, as a fraction of the smaller radius
@@ -76,6 +78,11 @@ Census take_census(const World& world) {
   const auto cb = world.colliders.b();
   const auto cr = world.colliders.radius();
   const SolverSettings& s = world.solver;
+  // Regions with a sphere not yet still for sleep_time (systems/sleeping.cpp: restless).
+  const SleepRegions regions(world.pit, world.gravity(), world.grid.max_radius);
+  std::vector<std::uint8_t> unstill(regions.size(), 0);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!asleep[i] && still[i] < s.sleep_time) unstill[regions.of(x[i])] = 1;
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (asleep[i]) continue;
     ++c.awake;
@@ -83,7 +90,10 @@ Census take_census(const World& world) {
     if (speed > s.wake_speed) ++c.moving;
     else if (speed > s.sleep_speed) ++c.slow;
     else if (still[i] < s.sleep_time) ++c.drifting;
-    else ++c.held;
+    else {
+      ++c.held;
+      if (unstill[regions.of(x[i])]) ++c.held_by_unstill;
+    }
     float d = std::numeric_limits<float>::infinity();
     for (std::size_t k = 0; k < world.colliders.size(); ++k) d = std::min(d, segment_distance(x[i], ca[k], cb[k]) - cr[k]);
     std::size_t bin = 0;
@@ -126,7 +136,8 @@ int main(int argc, char** argv) try {
     j["moving"] = c.moving;
     j["slow"] = c.slow;
     j["drifting"] = c.drifting;
-    j["held"] = c.held;
+    j["held_by_unstill"] = c.held_by_unstill;
+    j["held_otherwise"] = c.held - c.held_by_unstill;
     j["near_0.25m"] = c.by_distance[0];
     j["near_0.5m"] = c.by_distance[1];
     j["near_1m"] = c.by_distance[2];
