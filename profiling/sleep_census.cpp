@@ -47,25 +47,43 @@ struct Census {
   std::size_t awake = 0, moving = 0, slow = 0, drifting = 0, held = 0, held_by_unstill = 0;
   std::array<std::size_t, kBinEdges.size() + 1> by_distance{}, moving_by_distance{};
   std::array<std::size_t, 4> moving_by_speed{};  // wake_speed x (1-2, 2-4, 4-8, over 8)
-  float worst_pair_r = 0.0f;  // deepest listed sphere-sphere overlap, as a fraction of the smaller radius
 };
 
 // The deepest overlap among the step's listed sphere pairs (sleeper pairs are not listed: they
-// did not move).
-float worst_pair_overlap(const World& world) {
+// did not move), of all of them and of those with a sphere that was asleep in the step:
+// `was_asleep` by entity index, as the step began (a sleeper pressed deep wakes after it).
+struct PairOverlaps {
+  float worst_r = 0.0f, worst_with_sleeper_r = 0.0f;
+};
+PairOverlaps worst_pair_overlaps(const World& world, const std::vector<std::uint8_t>& was_asleep) {
   const auto x = world.spheres.position();
   const auto r = world.spheres.radius();
-  float worst = 0.0f;
+  auto slept = [&](std::uint32_t row) {
+    const std::uint32_t e = world.spheres.entity_at(row).index;
+    return e < was_asleep.size() && was_asleep[e];
+  };
+  PairOverlaps worst;
   auto visit = [&](const Contact& c) {
     if (c.b & kTagMask) return;
-    const float depth = r[c.a] + r[c.b] - (x[c.a] - x[c.b]).norm();
-    worst = std::max(worst, depth / std::min(r[c.a], r[c.b]));
+    const float depth = (r[c.a] + r[c.b] - (x[c.a] - x[c.b]).norm()) / std::min(r[c.a], r[c.b]);
+    worst.worst_r = std::max(worst.worst_r, depth);
+    if (depth > worst.worst_with_sleeper_r && (slept(c.a) || slept(c.b))) worst.worst_with_sleeper_r = depth;
   };
   for (const SlabContacts& slab : world.contacts.slabs) {
     for (const Contact& c : slab.pairs) visit(c);
     for (const Contact& c : slab.serial) visit(c);
   }
   return worst;
+}
+
+// Each sphere's sleep state by entity index, to follow it across the grid's reorders.
+void asleep_by_entity(const World& world, std::vector<std::uint8_t>& out) {
+  const auto asleep = world.spheres.asleep();
+  for (std::uint32_t i = 0; i < asleep.size(); ++i) {
+    const std::uint32_t e = world.spheres.entity_at(i).index;
+    if (e >= out.size()) out.resize(e + 1, 0);
+    out[e] = asleep[i];
+  }
 }
 
 Census take_census(const World& world) {
@@ -105,7 +123,6 @@ Census take_census(const World& world) {
       ++c.moving_by_speed[f < 2.0f ? 0 : f < 4.0f ? 1 : f < 8.0f ? 2 : 3];
     }
   }
-  c.worst_pair_r = worst_pair_overlap(world);
   return c;
 }
 
@@ -125,9 +142,18 @@ int main(int argc, char** argv) try {
   app.add_option("--every", every, "Steps between censuses")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
+  // The deepest overlaps are taken after every step, the census every `every` steps; each line
+  // gives the worst since the line before.
   int step = 0;
+  std::vector<std::uint8_t> was_asleep;
+  PairOverlaps worst;
   run.after_step = [&](const World& world) {
     ++step;
+    if (was_asleep.empty()) asleep_by_entity(world, was_asleep);  // the first step: as it ended
+    const PairOverlaps now = worst_pair_overlaps(world, was_asleep);
+    worst.worst_r = std::max(worst.worst_r, now.worst_r);
+    worst.worst_with_sleeper_r = std::max(worst.worst_with_sleeper_r, now.worst_with_sleeper_r);
+    asleep_by_entity(world, was_asleep);
     if (step % every) return;
     const Census c = take_census(world);
     nlohmann::ordered_json j;
@@ -145,7 +171,9 @@ int main(int argc, char** argv) try {
     j["beyond_2m"] = c.by_distance[4];
     j["moving_by_distance"] = c.moving_by_distance;
     j["moving_by_speed"] = c.moving_by_speed;
-    j["worst_pair_r"] = c.worst_pair_r;
+    j["worst_pair_r"] = worst.worst_r;
+    j["worst_pair_with_sleeper_r"] = worst.worst_with_sleeper_r;
+    worst = {};
     std::cout << j.dump() << std::endl;
   };
   std::cout << run_headless(run).dump() << std::endl;

@@ -307,15 +307,16 @@ Roll roll_into_sleeping_patch(float speed) {
 }  // namespace
 
 TEST(Sleeping, ASlowBallRestsAgainstSleepersWithoutWakingThemAndAFastOneWakesThem) {
-  // A sphere slower than kApproachWakeFactor x wake_speed (0.1 m/s) meets sleepers as the fixed
-  // pile they are: it stops against them and wakes nothing (at once the wake speed, chains of
-  // such movers woke the marine's pit 2 m around him, issue 39). Nor may it sink into them: the
-  // deepest overlap stays within the settled bound, 1% r.
-  const Roll slow = roll_into_sleeping_patch(0.08f);
+  // A sphere slower than kApproachWakeFactor x wake_speed meets sleepers as the fixed pile they
+  // are: it stops against them and wakes nothing. Nor may it sink into them: the deepest overlap
+  // stays within the settled bound, 1% r.
+  const float slowest_waking = kApproachWakeFactor * SolverSettings{}.wake_speed;
+  const Roll slow = roll_into_sleeping_patch(0.8f * slowest_waking);
   ASSERT_EQ(slow.sleepers_before, 9u) << "the patch did not fall asleep";
-  EXPECT_EQ(slow.fewest_sleepers, 9u) << "a ball at 0.08 m/s woke the patch";
+  EXPECT_EQ(slow.fewest_sleepers, 9u) << "a ball slower than the approach wake woke the patch";
   EXPECT_LT(slow.deepest_r, 0.01);
-  // Past the factor, the regions it may reach wake before it reaches them.
+  // Past it, the regions it may reach wake before it reaches them (0.3 m/s also strikes harder
+  // than the struck wake, 4 x wake_speed, were they asleep when it arrived).
   const Roll fast = roll_into_sleeping_patch(0.3f);
   EXPECT_LT(fast.fewest_sleepers, 9u) << "a ball at 0.3 m/s woke nothing";
   EXPECT_LT(fast.deepest_r, 0.01);
