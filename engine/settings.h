@@ -108,7 +108,7 @@ struct SolverSettings {
   bool sleeping = true;
   float sleep_speed = 0.02f;  // below this, and near where it was, a sphere counts as still (unit: m/s; systems/sleeping.h)
   float sleep_time = 0.5f;    // still for this long, it sleeps (unit: s)
-  float wake_speed = 0.05f;   // a sphere faster than this wakes the sleep regions it may reach (unit: m/s; systems/sleep_regions.h)
+  float wake_speed = 0.05f;   // a sphere faster than this keeps the sleep regions it may reach awake; twice this wakes them (unit: m/s; systems/sleep_regions.h)
 };
 
 }  // namespace ballpit

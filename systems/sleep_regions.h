@@ -62,17 +62,18 @@ inline constexpr float kSleepRegionDiameters = 3.0f;
 // (systems/sleeping.cpp), whatever the blow.
 inline constexpr float kStruckWakeFactor = 4.0f;
 
-// A moving sphere wakes the sleeping regions it may reach in the coming step when faster than
-// this many times wake_speed; slower, a sleeper it meets stops it as the pile would (a fixed
-// body with its loads kept). Movers past wake_speed always keep the regions they may reach from
-// falling asleep. At twice, the marine's walk in the settled 100k pit kept 51,000 balls awake on
-// average instead of 75,000 (the walking half 29.4 -> 20.2 ms a step: footfalls wake the pit
-// 2 m around him through chains of movers at 5-10 cm/s), but balls pressed sleepers deeper
-// (pairs with a sleeper: 0.029 r on average and 0.20 r at worst, against 0.021 and 0.062) and
-// the 100k sleeping pour ended with a pair jammed 1.34% r deep against sleepers, past the 1%
-// bound (0.86% at once). A trade the bound does not allow: kept at once, until a jam against a
-// sleeper can free itself (profiling/reports/sleeping.md, "What keeps balls awake").
-inline constexpr float kApproachWakeFactor = 1.0f;
+// A moving sphere wakes the sleeping regions it may reach in the coming step only when faster
+// than this many times wake_speed; slower, a sleeper it meets stops it as the pile would (a
+// fixed body with its loads kept), and the blow, at most the mover's own speed, stays under the
+// struck wake above; a mover that comes to rest jammed into a sleeper wakes it (systems/
+// sleeping.cpp, the pressed wake). Movers past wake_speed always keep the regions they may reach
+// from falling asleep. At once the wake speed, the marine's footfalls woke the settled 100k pit
+// 2 m around him through chains of movers at 5-10 cm/s: 75,000 balls awake on average over his
+// path, against 56,000 at twice (the walking half 29.4 -> 21.0 ms a step), with pairs with a
+// sleeper no deeper (0.026 r on average and 0.055 at worst, against 0.021 and 0.062;
+// profiling/reports/sleeping.md, "What keeps balls awake"). At four times a stirred corner's
+// pushed balls wandered into the sleeping pile past the regions that wake.
+inline constexpr float kApproachWakeFactor = 2.0f;
 
 struct SleepRegions {
   static constexpr float kMostTiles = 1024.0f;  // along each axis: at most a million regions

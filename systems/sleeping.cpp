@@ -40,6 +40,12 @@ constexpr float kStillDriftFraction = 0.1f;
 // around it (at once the bound, a stirred corner kept waking regions 1.5 m away, one after the
 // other, each pressed a hair past 1% r by the one before as it settled).
 constexpr float kPressedWakeFraction = 2.0f * kSleepOverlapFraction;
+// A sleeper pressed past the bound itself wakes when the sphere pressing it has been still for
+// sleep_time: that is a jam, not a passing blow, and only the sleeper can free it by yielding.
+// Without it, a ball that came to rest jammed against sleepers kept its overlap and held its
+// region awake (the 100k sleeping pour ended with a pair 1.34% r deep with the approach wake
+// at kApproachWakeFactor 2; 0.94% with this rule). A presser still for sleep_time is no longer
+// settling, so the chain of the stirred corner above does not start again.
 
 // Several threads may mark one region; every write stores the same value, so the outcome is
 // deterministic, and atomic_ref keeps it free of data races.
@@ -88,8 +94,9 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
 
 // What the step's contacts say, in one pass over them:
 // - pressed (when some sphere sleeps): the region of every sleeper that an awake sphere presses
-//   deeper than kPressedWakeFraction. A sleeper cannot yield, and a sphere caught between it and
-//   a limb or a moving crowd would be squeezed into it for as long as it sleeps.
+//   deeper than kPressedWakeFraction, or deeper than the bound after being still for sleep_time
+//   (a jam, above). A sleeper cannot yield, and a sphere caught between it and a limb or a
+//   moving crowd would be squeezed into it for as long as it sleeps.
 // - deep (when `deep` is given): the regions of both spheres of every contact deeper than
 //   kSleepOverlapFraction, and the regions next to those, which may not fall asleep. A deep
 //   pair left awake among sleepers that cannot yield stays as deep for good (the 10k pour kept
@@ -102,6 +109,8 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
 void mark_contacts(const World& world, const SleepRegions& regions, bool sleepers, std::vector<std::uint8_t>& pressed,
                    const std::vector<std::uint8_t>* near, std::vector<std::uint8_t>* deep) {
   auto x = world.spheres.position();
+  auto still = world.spheres.still_time();
+  const float sleep_time = world.solver.sleep_time;
   auto r = world.spheres.radius();
   auto asleep = world.spheres.asleep();
   const Pit& pit = world.pit;
@@ -126,7 +135,10 @@ void mark_contacts(const World& world, const SleepRegions& regions, bool sleeper
     const bool pair = !(c.b & kTagMask);
     const bool press = sleepers && pair && asleep[c.a] != asleep[c.b];
     if (!(press || at.near) || !deeper(c, kSleepOverlapFraction)) return;  // most contacts
-    if (press && deeper(c, kPressedWakeFraction)) set_mark(pressed[regions.of(x[asleep[c.a] ? c.a : c.b])]);
+    if (press) {
+      const std::uint32_t sleeper = asleep[c.a] ? c.a : c.b, presser = asleep[c.a] ? c.b : c.a;
+      if (still[presser] >= sleep_time || deeper(c, kPressedWakeFraction)) set_mark(pressed[regions.of(x[sleeper])]);
+    }
     if (at.near) {
       regions.mark_box(x[c.a] - around, x[c.a] + around, *deep);
       if (pair) regions.mark_box(x[c.b] - around, x[c.b] + around, *deep);

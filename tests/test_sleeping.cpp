@@ -322,6 +322,43 @@ TEST(Sleeping, ASlowBallRestsAgainstSleepersWithoutWakingThemAndAFastOneWakesThe
   EXPECT_LT(fast.deepest_r, 0.01);
 }
 
+TEST(Sleeping, ABallThatComesToRestJammedIntoASleeperWakesItAndTheJamFrees) {
+  // A limb pushes a ball slowly (under the wake speed, so nothing wakes on its way) into a
+  // sleeper on the floor and stops: the ball, between a fixed limb and a fixed sleeper, stays
+  // pressed past the 1% bound but short of the pressed wake's 2% for as long as the sleeper
+  // cannot yield. Once the wedged ball has been still for sleep_time that is a jam, and the
+  // sleeper wakes and rolls off a little to free it.
+  const float r = 0.04f, gap = 0.001f;
+  test::Sim s;
+  test::make_pit(s.world, 0.6f, 0.5f, 0.5f);
+  s.world.solver.sleeping = true;
+  test::add_ball(s.world, Vec3(0.0f, r, 0.0f));
+  s.start(1);
+  s.step(60);
+  ASSERT_EQ(sleepers(s.world), 1u) << "the ball did not fall asleep";
+  test::add_ball(s.world, Vec3(-2.0f * r - gap, r, 0.0f));
+  Stirrer limb;
+  limb.add(s.world, Vec3(-4.0f * r - 2.0f * gap, r, 0.0f), r);
+  // 8 steps at 2 cm/s: 2.7 mm, the two gaps and 1.7% r of squeeze (the limb pressing 0.7 mm
+  // more goes past 2% and wakes it by the pressed wake at once).
+  const int push_steps = 8;
+  double deepest_while_asleep = 0.0;
+  int woke_at = -1;
+  for (int k = 0; k < 150 && woke_at < 0; ++k) {
+    limb.move(s.world, k < push_steps ? Vec3(0.02f, 0.0f, 0.0f) : Vec3::Zero());
+    s.step();
+    if (sleepers(s.world) < 1u) woke_at = k;
+    else deepest_while_asleep = std::max(deepest_while_asleep, measure(s.world).max_penetration_r);
+  }
+  EXPECT_GT(deepest_while_asleep, 0.01) << "no jam: the wedge does not hold past the bound";
+  ASSERT_GE(woke_at, 0) << "the jammed sleeper never woke";
+  // Not before the wedged ball was still for sleep_time (0.5 s, 30 steps; pushed at 2 cm/s over
+  // 2.7 mm, under sleep_speed and the drift, it counts as still from the start).
+  EXPECT_GE(woke_at, 29);
+  s.step(120);
+  EXPECT_LT(measure(s.world).max_penetration_r, 0.01) << "the jam did not free";
+}
+
 TEST(Sleeping, ABallDroppedOnASleepingPileWakesOnlyTheRegionItReaches) {
   test::Sim s;
   shallow_pile(s);
