@@ -6,10 +6,12 @@
 // floor and its walls are neither found nor solved, and the warm-start cache keeps their
 // impulses (systems/solver.cpp), so it wakes carrying the load it carried.
 // A region wakes, before the step that could reach it, when a moving sphere (faster than
-// kApproachWakeFactor x wake_speed) or a moving joint collider comes within a step's travel of it; after a step, when
-// the solver struck one of its sleepers harder than wake_speed (a ball it held up moved away,
-// or landed on it); and everywhere when gravity changes (World::set_gravity). Waking is by
-// region, so it spreads only as far as motion does.
+// kApproachWakeFactor x wake_speed) or a moving joint collider comes within a step's travel of
+// it; after a step, when the solver struck one of its sleepers harder than kStruckWakeFactor x
+// wake_speed (a ball it held up moved away, or landed on it), or an awake sphere presses one
+// past 2% r, or past 1% r after being still for sleep_time (a jam only the sleeper can free);
+// and everywhere when gravity changes (World::set_gravity). Waking is by region, so it spreads
+// only as far as motion does.
 // Reads: positions, velocities, radii, colliders, gravity; the solver's wake requests.
 // Writes: sleep state; velocities (zeroed when a sphere falls asleep).
 // Decision: regions, not piles nor single spheres. A pile in a pit is the whole pit, so a pile
