@@ -1,10 +1,23 @@
 #!/usr/bin/python3
 """Writes profiling/reports/sleeping.md from the JSON lines scripts/profile_sleeping.sh collects:
-each case with sleeping off and on, side by side, speed and error from the same runs."""
+each case with sleeping off and on, side by side, speed and error from the same runs. The
+sections after the table (from the first '## ' heading of the file there) are measured by hand
+and kept as they are."""
 import argparse
 import os
 
 from report_common import load_jsonl, machine_line
+
+
+def hand_sections(path):
+    """What follows the generated table in the report there: from its first '## ' heading on."""
+    try:
+        with open(path) as f:
+            text = f.read()
+    except FileNotFoundError:
+        return ""
+    at = text.find("\n## ")
+    return text[at + 1:] if at >= 0 else ""
 
 
 def main():
@@ -34,8 +47,11 @@ def main():
             f"{r.get('awake_mean', r['spheres']):,.0f} | {r.get('awake_final', r['spheres']):,} | "
             f"{r.get('balls_inside_colliders', '')} |"
         )
+    kept = hand_sections(args.md)
     with open(args.md + ".tmp", "w") as f:  # written whole, then put in place
         f.write("\n".join(lines) + "\n")
+        if kept:
+            f.write("\n" + kept)
     os.replace(args.md + ".tmp", args.md)
 
 
