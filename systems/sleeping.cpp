@@ -65,7 +65,9 @@ SleepRegions regions_of(const World& world) { return {world.pit, world.gravity()
 // Marks every region that a moving awake sphere or a moving joint collider may reach within the
 // coming step: the box of the mover's travel, grown by its radius, the largest sphere's and the
 // drop under gravity (a sleeper's centre in a marked region is all a touch needs). A sphere
-// counts as moving above `sphere_speed`; a collider above wake_speed.
+// counts as moving above `sphere_speed`; a collider whenever it moves: a limb is as fixed as a
+// sleeper, and one slower than the wake speed went through a sleeping ball instead of pushing
+// it (0.45 r deep at 1 cm/s).
 void mark_motion(const World& world, const SleepRegions& regions, float sphere_speed, std::vector<std::uint8_t>& marks) {
   const SphereTable& spheres = world.spheres;
   auto x = spheres.position();
@@ -88,7 +90,7 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
   auto cr = colliders.radius();
   for (std::size_t c = 0; c < colliders.size(); ++c) {
     const float speed = colliders.speed(c);
-    if (!(speed > world.solver.wake_speed)) continue;
+    if (!(speed > 0.0f)) continue;
     const Vec3 grow = Vec3::Constant(cr[c] + reach + speed * dt);
     regions.mark_box(ca[c].cwiseMin(cb[c]) - grow, ca[c].cwiseMax(cb[c]) + grow, marks);
   }

@@ -328,17 +328,21 @@ TEST(Sleeping, ABallThatComesToRestJammedIntoASleeperWakesItAndTheJamFrees) {
   // pressed past the 1% bound but short of the pressed wake's 2% for as long as the sleeper
   // cannot yield. Once the wedged ball has been still for sleep_time that is a jam, and the
   // sleeper wakes and rolls off a little to free it.
-  const float r = 0.04f, gap = 0.001f;
+  // A moving limb wakes the regions it may reach, so the sleeper sits just past the low edge of
+  // its region (tiles of 0.24 m from the wall at -0.6 m), and the limb, two balls before it,
+  // moves in the region beside it.
+  const float r = 0.04f, gap = 0.001f, edge = -0.12f, at = edge + r + 0.006f;
   test::Sim s;
   test::make_pit(s.world, 0.6f, 0.5f, 0.5f);
   s.world.solver.sleeping = true;
-  test::add_ball(s.world, Vec3(0.0f, r, 0.0f));
+  ASSERT_FLOAT_EQ(SleepRegions(s.world.pit, s.world.gravity(), r).width, 0.24f);
+  test::add_ball(s.world, Vec3(at, r, 0.0f));
   s.start(1);
   s.step(60);
   ASSERT_EQ(sleepers(s.world), 1u) << "the ball did not fall asleep";
-  test::add_ball(s.world, Vec3(-2.0f * r - gap, r, 0.0f));
+  test::add_ball(s.world, Vec3(at - 2.0f * r - gap, r, 0.0f));
   Stirrer limb;
-  limb.add(s.world, Vec3(-4.0f * r - 2.0f * gap, r, 0.0f), r);
+  limb.add(s.world, Vec3(at - 4.0f * r - 2.0f * gap, r, 0.0f), r);
   // 8 steps at 2 cm/s: 2.7 mm, the two gaps and 1.7% r of squeeze (the limb pressing 0.7 mm
   // more goes past 2% and wakes it by the pressed wake at once).
   const int push_steps = 8;
@@ -357,6 +361,30 @@ TEST(Sleeping, ABallThatComesToRestJammedIntoASleeperWakesItAndTheJamFrees) {
   EXPECT_GE(woke_at, 29);
   s.step(120);
   EXPECT_LT(measure(s.world).max_penetration_r, 0.01) << "the jam did not free";
+}
+
+TEST(Sleeping, ASlowLimbWakesTheSleepersItPushesInsteadOfPassingIntoThem) {
+  // A limb slower than the wake speed moves into a sleeping ball. A sleeper is fixed and so is
+  // the limb: were the sleeper left asleep, nothing would stop the limb going through it. It
+  // must wake before the limb reaches it and be pushed along.
+  const float r = 0.04f;
+  test::Sim s;
+  test::make_pit(s.world, 0.6f, 0.5f, 0.5f);
+  s.world.solver.sleeping = true;
+  const Entity ball = test::add_ball(s.world, Vec3(0.0f, r, 0.0f));
+  s.start(1);
+  s.step(60);
+  ASSERT_EQ(sleepers(s.world), 1u) << "the ball did not fall asleep";
+  Stirrer limb;
+  limb.add(s.world, Vec3(-2.0f * r - 0.002f, r, 0.0f), r);
+  double deepest = 0.0;
+  for (int k = 0; k < 120; ++k) {  // 2 s at 1 cm/s: 2 cm, half the ball's radius
+    limb.move(s.world, Vec3(0.01f, 0.0f, 0.0f));
+    s.step();
+    deepest = std::max(deepest, measure_collider_overlap(s.world).max_depth_r);
+  }
+  EXPECT_LT(deepest, 0.01) << "the limb went into the ball";
+  EXPECT_GT(s.position(ball).x(), 0.015f) << "the ball was not pushed";
 }
 
 TEST(Sleeping, ABallDroppedOnASleepingPileWakesOnlyTheRegionItReaches) {
