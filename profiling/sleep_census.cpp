@@ -10,7 +10,8 @@
 //   not yet run sleep_time;
 // - held: still for sleep_time, but its region is restless: by a sphere in it not yet still
 //   (held_by_unstill), or else by motion that may reach it or a deep contact in or next to it
-//   (held_otherwise).
+//   (held_otherwise). A column sleeps under its lowest unstill sphere (systems/sleep_regions.h:
+//   kSleepBelowDiameters), so unstill_by_depth counts them by their depth under its top.
 //
 //   sleep_census --load pit.snap --steps 600 --every 30
 //   sleep_census --scene scenes/pit_character.json --set features.sleeping=true ...
@@ -47,6 +48,7 @@ struct Census {
   std::size_t awake = 0, moving = 0, slow = 0, drifting = 0, held = 0, held_by_unstill = 0;
   std::array<std::size_t, kBinEdges.size() + 1> by_distance{}, moving_by_distance{};
   std::array<std::size_t, 4> moving_by_speed{};  // wake_speed x (1-2, 2-4, 4-8, over 8)
+  std::array<std::size_t, 4> unstill_by_depth{};  // under the column's top, diameters: 0-2, 2-4, 4-8, over 8
 };
 
 // The deepest overlap among the step's listed sphere pairs (sleeper pairs are not listed: they
@@ -96,11 +98,22 @@ Census take_census(const World& world) {
   const auto cb = world.colliders.b();
   const auto cr = world.colliders.radius();
   const SolverSettings& s = world.solver;
-  // Regions with a sphere not yet still for sleep_time (systems/sleeping.cpp: restless).
+  // Each region's lowest sphere not yet still for sleep_time (systems/sleeping.cpp: restless).
   const SleepRegions regions(world.pit, world.gravity(), world.grid.max_radius);
-  std::vector<std::uint8_t> unstill(regions.size(), 0);
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (!asleep[i] && still[i] < s.sleep_time) unstill[regions.of(x[i])] = 1;
+  Levels unstill(regions.size(), kNoLevel);
+  Levels top(regions.size(), -kNoLevel);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const std::uint32_t k = regions.of(x[i]);
+    top[k] = std::max(top[k], regions.height(x[i]));
+    if (!asleep[i] && still[i] < s.sleep_time) SleepRegions::lower(unstill[k], regions.height(x[i]));
+  }
+  // Where in their columns the unstill spheres lie: a column sleeps only under its lowest.
+  const float diameter = 2.0f * world.grid.max_radius;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (asleep[i] || still[i] >= s.sleep_time) continue;
+    const float depth = (top[regions.of(x[i])] - regions.height(x[i])) / diameter;
+    ++c.unstill_by_depth[depth < 2.0f ? 0 : depth < 4.0f ? 1 : depth < 8.0f ? 2 : 3];
+  }
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (asleep[i]) continue;
     ++c.awake;
@@ -110,7 +123,7 @@ Census take_census(const World& world) {
     else if (still[i] < s.sleep_time) ++c.drifting;
     else {
       ++c.held;
-      if (unstill[regions.of(x[i])]) ++c.held_by_unstill;
+      if (!regions.sleeps_under(unstill[regions.of(x[i])], regions.height(x[i]))) ++c.held_by_unstill;
     }
     float d = std::numeric_limits<float>::infinity();
     for (std::size_t k = 0; k < world.colliders.size(); ++k) d = std::min(d, segment_distance(x[i], ca[k], cb[k]) - cr[k]);
@@ -171,6 +184,7 @@ int main(int argc, char** argv) try {
     j["beyond_2m"] = c.by_distance[4];
     j["moving_by_distance"] = c.moving_by_distance;
     j["moving_by_speed"] = c.moving_by_speed;
+    j["unstill_by_depth"] = c.unstill_by_depth;
     j["worst_pair_r"] = worst.worst_r;
     j["worst_pair_with_sleeper_r"] = worst.worst_with_sleeper_r;
     worst = {};

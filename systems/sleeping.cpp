@@ -62,13 +62,13 @@ float largest_radius(const World& world) {
 
 SleepRegions regions_of(const World& world) { return {world.pit, world.gravity(), largest_radius(world)}; }
 
-// Marks every region that a moving awake sphere or a moving joint collider may reach within the
-// coming step: the box of the mover's travel, grown by its radius, the largest sphere's and the
-// drop under gravity (a sleeper's centre in a marked region is all a touch needs). A sphere
-// counts as moving above `sphere_speed`; a collider whenever it moves: a limb is as fixed as a
-// sleeper, and one slower than the wake speed went through a sleeping ball instead of pushing
-// it (0.45 r deep at 1 cm/s).
-void mark_motion(const World& world, const SleepRegions& regions, float sphere_speed, std::vector<std::uint8_t>& marks) {
+// Lowers the level of every region that a moving awake sphere or a moving joint collider may
+// reach within the coming step to the bottom of what it may reach: the box of the mover's
+// travel, grown by its radius, the largest sphere's and the drop under gravity (a sleeper's
+// centre in the box is all a touch needs). A sphere counts as moving above `sphere_speed`; a
+// collider whenever it moves: a limb is as fixed as a sleeper, and one slower than the wake
+// speed went through a sleeping ball instead of pushing it (0.45 r deep at 1 cm/s).
+void mark_motion(const World& world, const SleepRegions& regions, float sphere_speed, Levels& levels) {
   const SphereTable& spheres = world.spheres;
   auto x = spheres.position();
   auto v = spheres.velocity();
@@ -82,7 +82,7 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
   for (std::int64_t i = 0; i < n; ++i) {
     if (asleep[i] || !(v[i].squaredNorm() > wake2)) continue;  // NaN speeds are the guard's
     const Vec3 grow = Vec3::Constant(r[i] + reach + v[i].norm() * dt);
-    regions.mark_box(x[i] - grow, x[i] + grow, marks);
+    regions.lower_box(x[i] - grow, x[i] + grow, levels);
   }
   const ColliderTable& colliders = world.colliders;
   auto ca = colliders.a();
@@ -92,17 +92,18 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
     const float speed = colliders.speed(c);
     if (!(speed > 0.0f)) continue;
     const Vec3 grow = Vec3::Constant(cr[c] + reach + speed * dt);
-    regions.mark_box(ca[c].cwiseMin(cb[c]) - grow, ca[c].cwiseMax(cb[c]) + grow, marks);
+    regions.lower_box(ca[c].cwiseMin(cb[c]) - grow, ca[c].cwiseMax(cb[c]) + grow, levels);
   }
 }
 
 // What the step's contacts say, in one pass over them:
-// - pressed (when some sphere sleeps): the region of every sleeper that an awake sphere presses
-//   deeper than kPressedWakeFraction, or deeper than the bound after being still for sleep_time
-//   (a jam, above). A sleeper cannot yield, and a sphere caught between it and a limb or a
-//   moving crowd would be squeezed into it for as long as it sleeps.
-// - deep (when `deep` is given): the regions of both spheres of every contact deeper than
-//   kSleepOverlapFraction, and the regions next to those, which may not fall asleep. A deep
+// - pressed (when some sphere sleeps): the wake level of every sleeper that an awake sphere
+//   presses deeper than kPressedWakeFraction, or deeper than the bound after being still for
+//   sleep_time (a jam, above), a region's width under it. A sleeper cannot yield, and a sphere
+//   caught between it and a limb or a moving crowd would be squeezed into it for as long as it
+//   sleeps.
+// - deep (when `deep` is given): the restless level of both spheres of every contact deeper
+//   than kSleepOverlapFraction, and of the regions next to those, a region's width under it. A deep
 //   pair left awake among sleepers that cannot yield stays as deep for good (the 10k pour kept
 //   three pairs 1.0 to 1.5% r deep, awake and still for 6 s, against 0.16% at most with
 //   sleeping off). Planes count; colliders do not (a limb pressing on a ball keeps its region
@@ -110,8 +111,8 @@ void mark_motion(const World& world, const SleepRegions& regions, float sphere_s
 //   `near` are looked at for this: the regions within two tiles of one that could fall asleep,
 //   which holds every region a mark could matter to (a partner is nearer than a region's width).
 //   While a pit pours, or a crowd moves, few are, and the pass skips their contacts unread.
-void mark_contacts(const World& world, const SleepRegions& regions, bool sleepers, std::vector<std::uint8_t>& pressed,
-                   const std::vector<std::uint8_t>* near, std::vector<std::uint8_t>* deep) {
+void mark_contacts(const World& world, const SleepRegions& regions, bool sleepers, Levels& pressed,
+                   const std::vector<std::uint8_t>* near, Levels* deep) {
   auto x = world.spheres.position();
   auto still = world.spheres.still_time();
   const float sleep_time = world.solver.sleep_time;
@@ -141,11 +142,12 @@ void mark_contacts(const World& world, const SleepRegions& regions, bool sleeper
     if (!(press || at.near) || !deeper(c, kSleepOverlapFraction)) return;  // most contacts
     if (press) {
       const std::uint32_t sleeper = asleep[c.a] ? c.a : c.b, presser = asleep[c.a] ? c.b : c.a;
-      if (still[presser] >= sleep_time || deeper(c, kPressedWakeFraction)) set_mark(pressed[regions.of(x[sleeper])]);
+      if (still[presser] >= sleep_time || deeper(c, kPressedWakeFraction))
+        SleepRegions::lower(pressed[regions.of(x[sleeper])], regions.height(x[sleeper]) - regions.width);
     }
     if (at.near) {
-      regions.mark_box(x[c.a] - around, x[c.a] + around, *deep);
-      if (pair) regions.mark_box(x[c.b] - around, x[c.b] + around, *deep);
+      regions.lower_box(x[c.a] - around, x[c.a] + around, *deep);
+      if (pair) regions.lower_box(x[c.b] - around, x[c.b] + around, *deep);
     }
   };
   const std::vector<SlabContacts>& slabs = world.contacts.slabs;
@@ -159,8 +161,8 @@ void mark_contacts(const World& world, const SleepRegions& regions, bool sleeper
   }
 }
 
-// Wakes the sleepers of the marked regions; returns how many.
-std::size_t wake_marked(World& world, const SleepRegions& regions, const std::vector<std::uint8_t>& marks) {
+// Wakes every sleeper at or above its region's level; returns how many.
+std::size_t wake_above(World& world, const SleepRegions& regions, const Levels& levels) {
   SphereTable& spheres = world.spheres;
   auto x = spheres.position();
   auto asleep = spheres.mut_asleep();
@@ -170,7 +172,7 @@ std::size_t wake_marked(World& world, const SleepRegions& regions, const std::ve
   std::size_t woken = 0;
 #pragma omp parallel for schedule(static) reduction(+ : woken)
   for (std::int64_t i = first; i < n; ++i)
-    if (asleep[i] && marks[regions.of(x[i])]) {
+    if (asleep[i] && regions.height(x[i]) >= levels[regions.of(x[i])]) {
       asleep[i] = 0;
       still[i] = 0.0f;
       ++woken;
@@ -200,10 +202,10 @@ std::size_t wake_approached(World& world) {
   const TeamSize team(team_for(world.spheres.size(), kRowsPerThread));
   if (!any_asleep(world.spheres.asleep())) return 0;
   const SleepRegions regions = regions_of(world);
-  std::vector<std::uint8_t> marks(regions.size(), 0);
-  mark_motion(world, regions, kApproachWakeFactor * world.solver.wake_speed, marks);
-  if (std::find(marks.begin(), marks.end(), std::uint8_t{1}) == marks.end()) return 0;
-  return wake_marked(world, regions, marks);
+  Levels levels(regions.size(), kNoLevel);
+  mark_motion(world, regions, kApproachWakeFactor * world.solver.wake_speed, levels);
+  if (!SleepRegions::any_level(levels)) return 0;
+  return wake_above(world, regions, levels);
 }
 
 void update_sleep(World& world) {
@@ -243,32 +245,40 @@ void update_sleep(World& world) {
     ready = ready || still[i] >= s.sleep_time;
   }
 
-  // Restless regions: those with an awake sphere not yet still for sleep_time, and those that
-  // motion may reach in the next step (which would only wake them again); the contacts below
-  // add those with a deep contact in or next to them. Rows come sorted by grid cell, so runs of
-  // rows share a region: each thread marks a region once per run. The regions left, with an
-  // awake sphere in them, are the candidates: all that may fall asleep after this step.
-  std::vector<std::uint8_t> restless, candidates, near;
+  // Restless levels: in each region, the lowest awake sphere not yet still for sleep_time, and
+  // the lowest point that motion may reach in the next step (which would only wake what sleeps
+  // there again); the contacts below lower them under a deep contact. Rows come sorted by grid
+  // cell, so runs of rows share a region: each thread lowers a region once per run. The regions
+  // with an awake sphere under their level are the candidates: all that may sleep after this step.
+  Levels restless;
+  std::vector<std::uint8_t> candidates, near;
   bool any_candidate = false;
   if (ready) {
-    restless.assign(regions.size(), 0);
+    restless.assign(regions.size(), kNoLevel);
     candidates.assign(regions.size(), 0);
     mark_motion(world, regions, s.wake_speed, restless);
 #pragma omp parallel
     {
       std::uint32_t last = ~0u;
-#pragma omp for schedule(static)
+      float lowest = kNoLevel;
+#pragma omp for schedule(static) nowait
       for (std::int64_t i = 0; i < n; ++i) {
         if (asleep[i] || still[i] >= s.sleep_time) continue;
         const std::uint32_t region = regions.of(x[i]);
-        if (region != last) set_mark(restless[region]);
-        last = region;
+        if (region != last) {
+          if (last != ~0u) SleepRegions::lower(restless[last], lowest);
+          last = region;
+          lowest = kNoLevel;
+        }
+        lowest = std::min(lowest, regions.height(x[i]));
       }
+      if (last != ~0u) SleepRegions::lower(restless[last], lowest);
+#pragma omp barrier
 #pragma omp for schedule(static) reduction(|| : any_candidate)
       for (std::int64_t i = 0; i < n; ++i) {
         if (asleep[i]) continue;
         const std::uint32_t region = regions.of(x[i]);
-        if (restless[region]) continue;
+        if (!regions.sleeps_under(restless[region], regions.height(x[i]))) continue;
         set_mark(candidates[region]);
         any_candidate = true;
       }
@@ -279,25 +289,25 @@ void update_sleep(World& world) {
   // A sleeper the solver struck hard (kStruckWakeFactor), or that an awake sphere presses deeper
   // than the bound, wakes with its region: the step treated it as fixed, the next one moves it.
   // Its clock starts again, so its region is restless too.
-  std::vector<std::uint8_t> struck(regions.size(), 0);
+  Levels struck(regions.size(), kNoLevel);
   const bool sleepers = any_asleep(spheres.asleep());
   const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
   if (sleepers && requests.size() == spheres.size())
     for (std::size_t i = spans.asleep_begin; i < requests.size(); ++i)
-      if (requests[i]) struck[regions.of(x[i])] = 1;
+      if (requests[i]) SleepRegions::lower(struck[regions.of(x[i])], regions.height(x[i]) - regions.width);
   if (sleepers || any_candidate)
     mark_contacts(world, regions, sleepers, struck, any_candidate ? &near : nullptr, any_candidate ? &restless : nullptr);
   // Spheres it wakes are awake rows among the sleepers': the pass below takes every row then.
-  if (std::find(struck.begin(), struck.end(), std::uint8_t{1}) != struck.end() && wake_marked(world, regions, struck) > 0) {
+  if (SleepRegions::any_level(struck) && wake_above(world, regions, struck) > 0) {
     n = static_cast<std::int64_t>(spheres.size());
     if (any_candidate)
-      for (std::size_t k = 0; k < struck.size(); ++k) restless[k] |= struck[k];
+      for (std::size_t k = 0; k < struck.size(); ++k) restless[k] = std::min(restless[k], struck[k]);
   }
   if (!any_candidate) return;  // every awake sphere's region is restless
 
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i)
-    if (!asleep[i] && !restless[regions.of(x[i])]) {
+    if (!asleep[i] && regions.sleeps_under(restless[regions.of(x[i])], regions.height(x[i]))) {
       asleep[i] = 1;
       v[i].setZero();
       if (angular) w[i].setZero();
