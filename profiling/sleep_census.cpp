@@ -49,6 +49,7 @@ struct Census {
   std::array<std::size_t, kBinEdges.size() + 1> by_distance{}, moving_by_distance{};
   std::array<std::size_t, 4> moving_by_speed{};  // wake_speed x (1-2, 2-4, 4-8, over 8)
   std::array<std::size_t, 4> unstill_by_depth{};  // under the column's top, diameters: 0-2, 2-4, 4-8, over 8
+  double mean_height_m = 0.0;  // of every sphere along -gravity: a pile that sags sinks it
 };
 
 // The deepest overlap among the step's listed sphere pairs (sleeper pairs are not listed: they
@@ -104,6 +105,7 @@ Census take_census(const World& world) {
   Levels top(regions.size(), -kNoLevel);
   for (std::size_t i = 0; i < x.size(); ++i) {
     const std::uint32_t k = regions.of(x[i]);
+    c.mean_height_m += regions.height(x[i]) / static_cast<double>(x.size());
     top[k] = std::max(top[k], regions.height(x[i]));
     if (!asleep[i] && still[i] < s.sleep_time) SleepRegions::lower(unstill[k], regions.height(x[i]));
   }
@@ -185,6 +187,7 @@ int main(int argc, char** argv) try {
     j["moving_by_distance"] = c.moving_by_distance;
     j["moving_by_speed"] = c.moving_by_speed;
     j["unstill_by_depth"] = c.unstill_by_depth;
+    j["mean_height_m"] = c.mean_height_m;
     j["worst_pair_r"] = worst.worst_r;
     j["worst_pair_with_sleeper_r"] = worst.worst_with_sleeper_r;
     worst = {};
