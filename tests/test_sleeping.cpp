@@ -292,8 +292,7 @@ TEST(Sleeping, AColumnSleepsUnderTheBallsThatStillMoveOnItsTop) {
   s.start(1);
   s.step(120);  // the layers drop into the hollows of the ones under them (1.41 r apart)
   float top = 0.0f;
-  auto x = s.world.spheres.position();
-  for (const Vec3& p : x) top += p.y() / static_cast<float>(x.size());
+  for (const Vec3& p : s.world.spheres.position()) top += p.y() / static_cast<float>(s.world.spheres.size());
   top = 2.0f * top - r;  // the pile's mean height is half its top's
   Stirrer stick;
   stick.add(s.world, Vec3(0.0f, top + 0.5f * r, 0.0f), 0.04f);
@@ -306,14 +305,15 @@ TEST(Sleeping, AColumnSleepsUnderTheBallsThatStillMoveOnItsTop) {
   // The column under the limb: the middle region (0.24 m wide, from -0.12 to 0.12 m). Nothing
   // the limb may touch sleeps, nor the two diameters under that (kSleepBelowDiameters).
   const float reach = stick.at.y() - 0.04f - r - 2.0f * kSleepBelowDiameters * r;
+  auto x = s.world.spheres.position();
   auto a = s.world.spheres.asleep();
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (std::abs(x[i].x()) > 0.12f || std::abs(x[i].z()) > 0.12f || !a[i]) continue;
     if (x[i].y() < 4.0f * r) ++deep_asleep;
     if (x[i].y() > reach) ++high_asleep;
   }
-  // Balls 0.2 m and more under the limb's path (above 4 r) were restless at the end: its pushes
-  // rearrange the pile four layers down. The three layers under those (9 balls each) slept.
+  // The balls from 4 r up were restless at the end: the limb's pushes rearrange the pile four
+  // layers under it. The three layers below them (9 balls each) slept.
   EXPECT_GE(deep_asleep, 18u) << "the stirred column did not sleep under the limb";
   EXPECT_EQ(high_asleep, 0u) << "balls the limb may reach, or the layers under them, sleep";
   stick.move(s.world, Vec3::Zero());
