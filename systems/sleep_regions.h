@@ -171,6 +171,10 @@ struct SleepRegions {
     return std::any_of(levels.begin(), levels.end(), [](float l) { return l < kNoLevel; });
   }
 
+  // The wake level for a sleeper at p that was struck or pressed: a region's width under it, so
+  // that the sleepers it rests on wake with it (the reach of a deep contact's hold, too).
+  float wake_level_under(const Vec3& p) const { return height(p) - width; }
+
   // Whether an awake, still sphere at height h may sleep under its region's restless level.
   bool sleeps_under(float level, float h) const { return h < level - below; }
 

@@ -143,7 +143,7 @@ void mark_contacts(const World& world, const SleepRegions& regions, bool sleeper
     if (press) {
       const std::uint32_t sleeper = asleep[c.a] ? c.a : c.b, presser = asleep[c.a] ? c.b : c.a;
       if (still[presser] >= sleep_time || deeper(c, kPressedWakeFraction))
-        SleepRegions::lower(pressed[regions.of(x[sleeper])], regions.height(x[sleeper]) - regions.width);
+        SleepRegions::lower(pressed[regions.of(x[sleeper])], regions.wake_level_under(x[sleeper]));
     }
     if (at.near) {
       regions.lower_box(x[c.a] - around, x[c.a] + around, *deep);
@@ -287,14 +287,15 @@ void update_sleep(World& world) {
   }
 
   // A sleeper the solver struck hard (kStruckWakeFactor), or that an awake sphere presses deeper
-  // than the bound, wakes with its region: the step treated it as fixed, the next one moves it.
-  // Its clock starts again, so its region is restless too.
+  // than the bound, wakes with the sleepers of its region from a region's width under it up: the
+  // step treated it as fixed, the next one moves it. Their clocks start again, so that part of
+  // the region is restless too.
   Levels struck(regions.size(), kNoLevel);
   const bool sleepers = any_asleep(spheres.asleep());
   const std::vector<std::uint8_t>& requests = world.contacts.wake_requests;
   if (sleepers && requests.size() == spheres.size())
     for (std::size_t i = spans.asleep_begin; i < requests.size(); ++i)
-      if (requests[i]) SleepRegions::lower(struck[regions.of(x[i])], regions.height(x[i]) - regions.width);
+      if (requests[i]) SleepRegions::lower(struck[regions.of(x[i])], regions.wake_level_under(x[i]));
   if (sleepers || any_candidate)
     mark_contacts(world, regions, sleepers, struck, any_candidate ? &near : nullptr, any_candidate ? &restless : nullptr);
   // Spheres it wakes are awake rows among the sleepers': the pass below takes every row then.
