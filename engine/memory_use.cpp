@@ -15,7 +15,9 @@ std::vector<MemoryItem> memory_by_table(const World& world, const Scheduler& sch
   std::size_t lists = held_bytes(c.slabs) + held_bytes(c.piled) + held_bytes(c.wake_requests);
   for (const SlabContacts& s : c.slabs) lists += held_bytes(s.pairs) + held_bytes(s.statics) + held_bytes(s.serial);
   items.push_back({"contact lists", lists});
-  items.push_back({"warm-start cache", held_bytes(c.warm_begin) + held_bytes(c.warm)});
+  items.push_back({"warm-start cache", held_bytes(c.warm_begin) + held_bytes(c.warm) + held_bytes(c.row_slept)});
+  items.push_back({"warm-start cache: sleepers'",
+                   held_bytes(c.kept.of) + held_bytes(c.kept.partners) + held_bytes(c.kept.entries)});
 
   const SpatialGrid& g = world.grid;
   items.push_back({"grid", held_bytes(g.cell_start) + held_bytes(g.cell_of_row) + held_bytes(g.new_to_old)});

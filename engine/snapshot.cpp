@@ -86,8 +86,12 @@ void capture_snapshot(const World& world, Snapshot& s) {
   s.step_count = world.step_count;
   s.last_pass_length = world.passes.last_length;
   s.last_pass_split = world.passes.last_split;
-  s.warm_begin = world.contacts.warm_begin;
-  s.warm = world.contacts.warm;
+  const ContactSet& c = world.contacts;
+  s.warm_begin = c.warm_begin;
+  s.warm = c.warm;
+  s.warm_row_slept = c.row_slept;
+  s.warm_kept = c.kept;
+  s.warm_stores = c.stores;
   capture_characters(world, s.characters, s.colliders);
 }
 
@@ -166,8 +170,10 @@ void restore_snapshot(const Snapshot& s, World& world, const std::string& source
         if (!all_finite(a)) fail("spheres.angular_velocity holds a non-finite value");
       std::copy(s.angular_velocity.begin(), s.angular_velocity.end(), w.spheres.mut_angular_velocity().begin());
     }
-    w.contacts.warm_begin = s.warm_begin;
-    w.contacts.warm = s.warm;
+    w.contacts.set_rows_cache(s.warm_begin, s.warm);
+    w.contacts.row_slept = s.warm_row_slept;
+    w.contacts.kept = s.warm_kept;
+    w.contacts.stores = s.warm_stores;
     restore_characters(s.characters, s.colliders, w);
   } catch (const Error& e) {
     const std::string what = e.what();
@@ -220,8 +226,21 @@ std::string encode_snapshot(const Snapshot& s) {
   w.put(s.step_count);
   w.put(s.last_pass_length);
   w.put(static_cast<std::uint8_t>(s.last_pass_split));
-  w.array(s.warm_begin);
-  w.array(s.warm);
+  if (s.warm_kept.sleepers > 0) {  // the sleepers' live entries back into their rows
+    ContactSet cache;
+    cache.warm_begin = s.warm_begin;
+    cache.warm = s.warm;
+    cache.row_slept = s.warm_row_slept;
+    cache.kept = s.warm_kept;
+    std::vector<std::uint32_t> begin;
+    std::vector<WarmStartEntry> entries;
+    cache.rows_cache(s.entity_index, begin, entries);
+    w.array(begin);
+    w.array(entries);
+  } else {
+    w.array(s.warm_begin);
+    w.array(s.warm);
+  }
   put_characters(w, s.characters, s.colliders);
 
   const std::string_view payload = std::string_view(w.out).substr(kHeaderBytes);

@@ -45,6 +45,11 @@ struct Snapshot {
   bool last_pass_split = false;   // PassRecord::last_split (version 6 on)
   std::vector<std::uint32_t> warm_begin;  // ContactSet's warm-start cache, keyed by row
   std::vector<WarmStartEntry> warm;
+  // In memory only, as the world holds them: the sleepers' entries by entity (ContactSet::kept),
+  // and the rows that slept. A file holds every row's live entries in warm (encode_snapshot).
+  std::vector<std::uint8_t> warm_row_slept;
+  SleeperCache warm_kept;
+  std::uint32_t warm_stores = 0;
   ColliderSnapshot colliders;                 // joint-collider rows (format version 2 on)
   std::vector<CharacterSnapshot> characters;  // (format version 2 on)
 };

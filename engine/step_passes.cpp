@@ -48,10 +48,7 @@ int passes_needed(float remaining, float longest) {
 }
 
 void scale_warm_start(World& world, float factor) {
-  for (WarmStartEntry& e : world.contacts.warm) {
-    e.normal_impulse *= factor;
-    e.friction_impulse *= factor;
-  }
+  world.contacts.scale_impulses(factor);
 }
 
 std::string short_of_passes_warning(const World& world, const PassRecord& record) {

@@ -30,6 +30,7 @@ Entity World::add_sphere(const SphereDesc& d) {
 
 void World::remove_sphere(Entity e) {
   spheres.remove(e);
+  contacts.kept.forget(e.index);
   entities.destroy(e);
 }
 
@@ -54,10 +55,7 @@ void World::set_substeps(int substeps) {
   if (substeps < 1 || substeps > 64) throw Error("solver.substeps must be in [1, 64], got " + std::to_string(substeps));
   if (substeps == solver.substeps) return;
   const float scale = static_cast<float>(solver.substeps) / static_cast<float>(substeps);
-  for (WarmStartEntry& e : contacts.warm) {
-    e.normal_impulse *= scale;
-    e.friction_impulse *= scale;
-  }
+  contacts.scale_impulses(scale);
   solver.substeps = substeps;
 }
 

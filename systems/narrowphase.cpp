@@ -41,10 +41,6 @@ constexpr std::uint32_t kFastRow = 1;    // margin beyond what a one-cell search
 constexpr std::uint32_t kAsleepRow = 2;
 constexpr std::uint32_t kAwakeRow = 4;   // so that a search can skip every awake partner
 
-// Bit of a partner in a row's summary of its warm-start entries (NarrowphaseScratch::cached):
-// Fibonacci hashing of the partner to one of 32 bits.
-inline std::uint32_t partner_bit(std::uint32_t partner) { return 1u << ((partner * 0x9E3779B1u) >> 27); }
-
 // Slow spheres test their candidates this many rows at a time (one SSE register of floats).
 constexpr std::uint32_t kLanes = 4;
 
@@ -172,21 +168,12 @@ struct SlabSearch {
     return j >= grid.slab_sleeper_begin(slab) && j < grid.slab_sleeper_begin(next);
   }
 
-  // Last step's entries of the sphere that was at `old_row`.
-  std::span<const WarmStartEntry> cached(std::uint32_t old_row) const {
-    if (old_row + 1 >= previous.warm_begin.size()) return {};
-    return {previous.warm.data() + previous.warm_begin[old_row], previous.warm.data() + previous.warm_begin[old_row + 1]};
+  // Last step's entries of the sphere at row i (engine/contact_set.h: a sleeper's are kept apart).
+  ContactSet::RowEntries cached(std::uint32_t i) const {
+    return new_to_old.empty() ? ContactSet::RowEntries{} : previous.row_entries(new_to_old[i], entity[i]);
   }
 
-  static const WarmStartEntry* find(std::span<const WarmStartEntry> entries, std::uint32_t partner) {
-    for (const WarmStartEntry& e : entries)
-      if (e.partner == partner) return &e;
-    return nullptr;
-  }
-
-  const WarmStartEntry* warm(std::uint32_t i, std::uint32_t partner) const {
-    return new_to_old.empty() ? nullptr : find(cached(new_to_old[i]), partner);
-  }
+  const WarmStartEntry* warm(std::uint32_t i, std::uint32_t partner) const { return cached(i).find(partner); }
 
   // `reversed`: the cached contact had a and b the other way round (row order decides which
   // sphere generates a pair, and rows are re-sorted every step), so its friction impulse, which
@@ -207,21 +194,20 @@ struct SlabSearch {
     std::uint32_t entity;
     std::uint32_t entity_bit;              // partner_bit(entity)
     const Material* materials;             // i's row of pair_material
-    std::span<const WarmStartEntry> warm;  // i's entries of last step
+    ContactSet::RowEntries warm;           // i's entries of last step
   };
 
   Generator generator(std::uint32_t i) const {
-    return {i, entity[i], partner_bit(entity[i]), &pair_material[material[i] * material_count],
-            new_to_old.empty() ? std::span<const WarmStartEntry>{} : cached(new_to_old[i])};
+    return {i, entity[i], partner_bit(entity[i]), &pair_material[material[i] * material_count], cached(i)};
   }
 
   // The partner's own entries are searched only if its summary allows: most pairs that i did
   // not cache were not cached at all (they carried no impulse), and the partner's entries lie
   // ahead in the cache, where reading them costs a miss.
   Contact pair(const Generator& g, std::uint32_t j) const {
-    const WarmStartEntry* w = find(g.warm, entity[j]);
+    const WarmStartEntry* w = g.warm.find(entity[j]);
     bool reversed = false;
-    if ((scratch.cached[j] & g.entity_bit) && !w) reversed = (w = find(cached(new_to_old[j]), g.entity)) != nullptr;
+    if ((scratch.cached[j] & g.entity_bit) && !w) reversed = (w = cached(j).find(g.entity)) != nullptr;
     return make(g.i, j, g.materials[material[j]], w, reversed);
   }
 
@@ -568,10 +554,22 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   scratch.cached.resize(n);
   std::span<const std::uint32_t> new_to_old = grid.new_to_old;
   const std::int64_t count = static_cast<std::int64_t>(n);
+  auto entity = spheres.entity_index();
+  // A row that slept has its entries, and their summary, kept by entity (engine/contact_set.h):
+  // the old-row pass marks it with every bit, and the gather looks the summary up.
+  constexpr std::uint32_t kSlept = ~0u;
+  auto summary_of = [&](std::uint32_t old_row, std::uint32_t e) {
+    const std::uint32_t s = scratch.cached_by_old_row[old_row];
+    return s == kSlept && e < previous.kept.partners.size() ? previous.kept.partners[e] : s;
+  };
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
     for (std::int64_t o = 0; o < old_rows; ++o) {
+      if (static_cast<std::size_t>(o) < previous.row_slept.size() && previous.row_slept[o]) {
+        scratch.cached_by_old_row[o] = kSlept;
+        continue;
+      }
       std::uint32_t summary = 0;
       for (std::uint32_t k = previous.warm_begin[o]; k < previous.warm_begin[o + 1]; ++k)
         summary |= partner_bit(previous.warm[k].partner);
@@ -590,7 +588,7 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       scratch.margin[i] = m;
       scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : kAwakeRow);
       const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
-      scratch.cached[i] = has_old_row ? scratch.cached_by_old_row[new_to_old[i]] : 0u;
+      scratch.cached[i] = has_old_row ? summary_of(new_to_old[i], entity[i]) : 0u;
     }  // and the loop's barrier
 
     // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each

@@ -496,18 +496,71 @@ void load_and_pack(World& world, SolverScratch& scratch) {
   pack_pairs({&serial, 1}, spanning, scratch.serial);
 }
 
+// A sleeper's pairs with other sleepers, its floor, walls and colliders are neither found nor
+// solved, so it keeps their impulses as they were when it fell asleep (ContactSet::kept), and a
+// region wakes carrying the load it carried (a sleeping pile of 1,000 woken whole: 2e-5 J a step
+// later). Only what changed sleep since the last store is touched: a sphere that woke drops its
+// kept entries; one that fell asleep keeps last step's entries with partners asleep now and with
+// planes and colliders; the kept entries of the rest stay where they are. Copied into the per-row
+// cache every step, they made a settled 100k pour with 173 balls awake cost 8.4 ms a step (the
+// solver 5.7); kept apart, 3.8 (1.6), with the same state hash (Intel Xeon, 2 threads;
+// profiling/reports/sleeping.md). The rows that sleep now are marked for the next step's lookups.
+void keep_sleepers(World& world, SolverScratch& scratch) {
+  ContactSet& cs = world.contacts;
+  SleeperCache& kept = cs.kept;
+  const SphereTable& spheres = world.spheres;
+  const std::size_t n = spheres.size();
+  auto entity = spheres.entity_index();
+  auto asleep = spheres.asleep();
+  const std::uint32_t store = ++cs.stores;
+  const RowSpans spans = row_spans(asleep);
+  if (kept.sleepers > 0)
+    for (std::size_t i = 0; i < spans.awake_end; ++i)
+      if (!asleep[i]) kept.forget(entity[i]);
+  const std::size_t sleepers = static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{1}));
+  // Kept entries left are all of spheres that still sleep; any other sleeper fell asleep since.
+  // A sleeper whose row slept at the last store is no such one: that byte, not its entity's
+  // record, rules out most (a sleeper's row that did not sleep then, or that rows no longer
+  // name after a sphere was removed, is looked up).
+  const std::vector<std::uint32_t>& old_row = world.grid.new_to_old;
+  const bool rows_known = old_row.size() == n;
+  if (sleepers > kept.sleepers) {
+    std::vector<std::uint32_t>& fell = scratch.fell_asleep;
+    auto find_fallen = [&](bool by_row) {
+      fell.clear();
+      for (std::size_t i = spans.asleep_begin; i < n; ++i) {
+        if (!asleep[i]) continue;
+        if (by_row && old_row[i] < cs.row_slept.size() && cs.row_slept[old_row[i]]) continue;
+        if (!kept.asleep(entity[i])) fell.push_back(static_cast<std::uint32_t>(i));
+      }
+    };
+    find_fallen(rows_known);
+    if (fell.size() != sleepers - kept.sleepers) find_fallen(false);
+    // All of them asleep first: an entry with a partner that fell asleep in the same step stays.
+    for (std::uint32_t i : fell) kept.fall_asleep(entity[i], store);
+    const std::vector<std::uint32_t>& old_begin = scratch.previous_warm_begin;
+    for (std::uint32_t i : fell) {
+      std::span<const WarmStartEntry> last;
+      if (rows_known && old_row[i] + std::size_t{1} < old_begin.size())
+        last = {scratch.previous_warm.data() + old_begin[old_row[i]], scratch.previous_warm.data() + old_begin[old_row[i] + 1]};
+      kept.keep(entity[i], last);
+    }
+  }
+  kept.compact();
+  cs.row_slept.assign(asleep.begin(), asleep.end());
+}
+
 // Keeps each contact's impulses for the next step, keyed by its generating row and the
 // partner's entity (rows move in the next grid rebuild; entities do not). They are read where the
 // passes left them, in the batches (a joint collider's in its ColliderContact), not copied back
 // into the contact lists first: in a one-substep solve of a 100k pile (bench_solver, 1 thread,
 // perf) the copy and the two walks over the lists took 17% of the time, reading the batches 11%.
 // Every row's entries are keyed by a distinct partner, so the order they are stored in, batch
-// order, changes no lookup.
-void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
+// order, changes no lookup. Sleepers keep theirs apart (keep_sleepers).
+void store_warm_start(World& world, SolverScratch& scratch) {
   ContactSet& cs = world.contacts;
-  const SphereTable& spheres = world.spheres;
-  const std::size_t n = spheres.size();
-  auto entity = spheres.entity_index();
+  const std::size_t n = world.spheres.size();
+  auto entity = world.spheres.entity_index();
   std::swap(cs.warm_begin, scratch.previous_warm_begin);
   std::swap(cs.warm, scratch.previous_warm);
   cs.warm_begin.assign(n + 1, 0);
@@ -529,61 +582,7 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
     }
     for_each_loaded_contact(scratch.serial, f);  // rows of any slab: after the groups
   };
-  // Two sleepers' pair is neither found nor solved, nor is a sleeper's floor, wall or collider,
-  // so their entries would leave the cache in the first step they sleep, and the region would
-  // wake cold, with no impulse carrying its weight in the first substep and every contact
-  // unloaded, free to strike. So a sleeper keeps, as they were, last step's entries with
-  // partners that sleep too and with planes and colliders, and the pair picks them up when it
-  // wakes (a sleeping pile of 1,000 woken whole: 2e-5 J a step later).
-  const std::vector<std::uint32_t>& old_row = world.grid.new_to_old;
-  const std::vector<std::uint32_t>& old_begin = scratch.previous_warm_begin;
-  const std::vector<WarmStartEntry>& old_entries = scratch.previous_warm;
-  auto asleep = spheres.asleep();
-  const bool keep = sleepers && old_row.size() == n;
-  // Sleepers' rows: those from the first sleeper on (systems/sleep_regions.h).
-  const std::int64_t first_sleeper = static_cast<std::int64_t>(row_spans(asleep).asleep_begin);
-  const std::int64_t rows = static_cast<std::int64_t>(n);
-  // Which entities sleep, by entity index: an entry names its partner by entity, and a byte of
-  // this (one per sphere, in the near caches) stands for a read of the partner's row and then of
-  // its sleep flag, two dependent misses (perf, the 100k pit-character walk on 1 thread: the
-  // row lookup was a third of the warm-start store). Zero for entities that are no sphere.
-  std::vector<std::uint8_t>& sleeps = scratch.asleep_by_entity;
-  if (keep) {
-    const std::size_t most = n ? *std::max_element(entity.begin(), entity.end()) + std::size_t{1} : 0;
-    sleeps.assign(most, 0);
-    for (std::int64_t i = first_sleeper; i < rows; ++i) sleeps[entity[i]] = asleep[i];
-  }
-  auto each_kept = [&](std::uint32_t i, auto&& f) {
-    if (!asleep[i] || old_row[i] + 1 >= old_begin.size()) return;
-    for (std::uint32_t k = old_begin[old_row[i]]; k < old_begin[old_row[i] + 1]; ++k) {
-      const WarmStartEntry& e = old_entries[k];
-      if ((e.partner & kTagMask) || (e.partner < sleeps.size() && sleeps[e.partner])) f(e);
-    }
-  };
-
   each([&](std::uint32_t a, std::uint32_t, float, const Vec3&) { ++cs.warm_begin[a + 1]; });
-  // The kept entries are chosen in one pass, each thread's into its own list, and copied into
-  // place after the count: the choice reads two tables at random for every entry (the partner's
-  // row, whether it sleeps), and it took a tenth of a 100k pit-character step on 1 thread done
-  // twice, once to count and once to fill.
-  const std::size_t sleeping_rows = keep ? static_cast<std::size_t>(rows - first_sleeper) : 0;
-  scratch.kept_count.assign(sleeping_rows, 0);
-  scratch.kept_by_thread.resize(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
-  if (keep) {
-#pragma omp parallel
-    {
-      std::vector<WarmStartEntry>& mine = scratch.kept_by_thread[static_cast<std::size_t>(omp_get_thread_num())];
-      mine.clear();
-      const auto [first, last] = equal_share(static_cast<int>(sleeping_rows));
-      for (int k = first; k < last; ++k) {
-        const std::uint32_t i = static_cast<std::uint32_t>(first_sleeper + k);
-        const std::size_t before = mine.size();
-        each_kept(i, [&](const WarmStartEntry& e) { mine.push_back(e); });
-        scratch.kept_count[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(mine.size() - before);
-        cs.warm_begin[i + 1] += static_cast<std::uint32_t>(mine.size() - before);
-      }
-    }
-  }
   for (std::size_t i = 0; i < n; ++i) cs.warm_begin[i + 1] += cs.warm_begin[i];
   release_excess_capacity(cs.warm, cs.warm_begin[n]);  // two steps old: nothing in it is read
   cs.warm.resize(cs.warm_begin[n]);
@@ -593,28 +592,13 @@ void store_warm_start(World& world, SolverScratch& scratch, bool sleepers) {
     const std::uint32_t partner = (b & kTagMask) ? b : entity[b];
     cs.warm[cursor[a]++] = {partner, normal, friction};
   });
-  if (keep) {
-#pragma omp parallel
-    {
-      const std::vector<WarmStartEntry>& mine = scratch.kept_by_thread[static_cast<std::size_t>(omp_get_thread_num())];
-      const auto [first, last] = equal_share(static_cast<int>(sleeping_rows));
-      std::size_t taken = 0;
-      for (int k = first; k < last; ++k) {
-        const std::size_t i = static_cast<std::size_t>(first_sleeper + k);
-        const std::uint32_t count = scratch.kept_count[static_cast<std::size_t>(k)];
-        std::copy_n(mine.begin() + static_cast<std::ptrdiff_t>(taken), count, cs.warm.begin() + cursor[i]);
-        taken += count;
-      }
-    }
-  }
+  keep_sleepers(world, scratch);
 }
-
 }  // namespace
 
 std::vector<MemoryItem> solver_held(const SolverScratch& s) {
-  std::size_t kept = held_bytes(s.previous_warm_begin) + held_bytes(s.previous_warm) + held_bytes(s.kept_by_thread) +
-                     held_bytes(s.kept_count) + held_bytes(s.asleep_by_entity) + held_bytes(s.warm_cursor);
-  for (const std::vector<WarmStartEntry>& k : s.kept_by_thread) kept += held_bytes(k);
+  const std::size_t kept = held_bytes(s.previous_warm_begin) + held_bytes(s.previous_warm) +
+                           held_bytes(s.fell_asleep) + held_bytes(s.warm_cursor);
   std::size_t batches = held_bytes(s.serial), lists = held_bytes(s.serial_pairs) + held_bytes(s.last_batch) +
                                                       held_bytes(s.even_group_rows);
   for (int parity = 0; parity < 2; ++parity) {
@@ -691,7 +675,7 @@ void solve_contacts(World& world, SolverScratch& scratch) {
   const std::vector<std::uint32_t> guarded =
       guard_colliders(world.colliders, world.step(), spheres.position(), scratch.bodies);  // before the positions are stored
   store_bodies(scratch.bodies, guarded, world.pit, spheres);
-  store_warm_start(world, scratch, sleepers);
+  store_warm_start(world, scratch);
 }
 
 }  // namespace ballpit

@@ -12,7 +12,7 @@
 // joint collider, nor a centre past the pit's floor or walls.
 //
 // Reads: radii, inverse masses, sleep, rows, colliders, gravity, the grid (its last permutation:
-// sleepers keep their warm-start entries with each other, systems/solver.cpp).
+// a sphere that falls asleep keeps its warm-start entries with sleepers, systems/solver.cpp).
 // Writes: positions, velocities, angular velocities, contacts (the warm-start cache).
 //
 // Data: the solver copies the spheres into quads of its own (systems/solver_bodies.h) and packs
@@ -98,14 +98,11 @@ struct SolverScratch {
   std::vector<Contact> serial_pairs;
   BatchList serial;
   std::vector<std::uint32_t> last_batch;
-  // Last step's warm-start cache, set aside while this step's is written (sleepers keep their
-  // entries with each other from it).
+  // Last step's warm-start cache, set aside while this step's is written (what a sphere that
+  // fell asleep keeps comes from it), and the rows of those that fell asleep.
   std::vector<std::uint32_t> previous_warm_begin;
   std::vector<WarmStartEntry> previous_warm;
-  // The sleepers' kept entries, each thread's in its own list, and how many each row keeps.
-  std::vector<std::vector<WarmStartEntry>> kept_by_thread;
-  std::vector<std::uint32_t> kept_count;
-  std::vector<std::uint8_t> asleep_by_entity;  // by entity index: the sphere sleeps
+  std::vector<std::uint32_t> fell_asleep;
   // Where each row's next entry goes as the cache is filled. Kept, not made each step: a
   // buffer this size (4 bytes a sphere) comes fresh from mmap, and faults in page by page,
   // every step (ballpit sets glibc's mmap threshold, app/main.cpp).
