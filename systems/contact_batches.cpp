@@ -24,12 +24,16 @@ constexpr std::uint32_t kPrefetchContacts = 8;
 
 // Batches in index order; last[row] is stamp + one past the index of the latest batch holding
 // the row (less than stamp: none in this packing). A contact joins the earliest open batch after
-// every batch that already holds one of its spheres, so each sphere meets its contacts in list
-// order and no batch holds a sphere twice.
+// every batch that already holds one of its awake spheres, so each awake sphere meets its
+// contacts in list order and no batch holds it twice. A sleeper is no such link: every pass
+// leaves its body as it was (its mobility, 0, scales every change to it to nothing, and its
+// zeroed velocity and spin stay +0), so the balls resting on it do not wait for each other
+// through it, a batch may hold it in several lanes, each storing the same body back, and its
+// row in `last` is never read or written (the same state hashes either way).
 class Window {
  public:
   Window(BatchList& out, const PackInput& in)
-      : out_(out), last_(in.last_batch), stamp_(in.stamp) {}
+      : out_(out), last_(in.last_batch), stamp_(in.stamp), awake_rows_(in.awake_rows) {}
 
   // The lane where the contact of sphere rows a and b (b == a: a plane) goes, in its batch.
   struct Lane {
@@ -37,7 +41,8 @@ class Window {
     int lane;
   };
   Lane add(std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t after = std::max({last_[a], last_[b], stamp_ + static_cast<std::uint32_t>(first_free_)});
+    const std::uint32_t after =
+        std::max({last_of(a), last_of(b), stamp_ + static_cast<std::uint32_t>(first_free_)});
     std::size_t k = after - stamp_;
     while (k < lanes_.size() && lanes_[k] == kBatchLanes) ++k;
     if (k == lanes_.size()) {
@@ -48,11 +53,15 @@ class Window {
     const int lane = lanes_[k]++;  // lanes fill in order
     batch.used |= 1u << lane;
     while (first_free_ < lanes_.size() && lanes_[first_free_] == kBatchLanes) ++first_free_;
-    last_[a] = last_[b] = stamp_ + static_cast<std::uint32_t>(k + 1);
+    const std::uint32_t held = stamp_ + static_cast<std::uint32_t>(k + 1);
+    if (a < awake_rows_) last_[a] = held;
+    if (b < awake_rows_) last_[b] = held;
     return {batch, lane};
   }
 
  private:
+  std::uint32_t last_of(std::uint32_t row) const { return row < awake_rows_ ? last_[row] : 0; }
+
   void open_new() {
     ContactBatch& batch = out_.emplace_back();
     batch.used = batch.loaded_last_step = batch.free_pair = 0;
@@ -69,6 +78,7 @@ class Window {
   BatchList& out_;
   std::vector<std::uint32_t>& last_;
   const std::uint32_t stamp_;
+  const std::uint32_t awake_rows_;
   // Lanes taken in each batch, beside the batches: the search for a batch with room reads these
   // bytes, not a line of each 1 KB batch (that search was a fifth of the packing).
   std::vector<std::uint8_t> lanes_;

@@ -39,10 +39,12 @@ namespace ballpit {
 using BatchList = Column<ContactBatch>;
 
 // What packing needs besides the contacts: `radius` per row (m); `in_pile` marks the rows resting
-// on another sphere (ContactSet::piled); `pad_rows` is the first padding body. `last_batch` is
+// on another sphere (ContactSet::piled); `pad_rows` is the first padding body; rows from
+// `awake_rows` on sleep (systems/sleep_regions.h: RowSpans). `last_batch` is
 // scratch with one entry per row, zeroed once per step and shared by every packing in it, each
 // with a `stamp` above every value the packings before it wrote (kStampStride apart: room for
-// that many batches), so no packing has to clear what the last one left.
+// that many batches), so no packing has to clear what the last one left. Only its awake rows are
+// read or written.
 struct PackInput {
   std::span<const float> radius;
   const std::vector<std::uint8_t>& in_pile;
@@ -50,6 +52,7 @@ struct PackInput {
   std::uint32_t pad_rows;
   std::vector<std::uint32_t>& last_batch;
   std::uint32_t stamp = 0;
+  std::uint32_t awake_rows = pad_rows;  // by default none sleeps
 };
 inline constexpr std::uint32_t kStampStride = 1u << 27;
 

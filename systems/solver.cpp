@@ -442,7 +442,9 @@ void load_and_pack(World& world, SolverScratch& scratch) {
   const SphereTable& spheres = world.spheres;
   size_bodies(spheres, scratch.bodies);
   group_slabs(world, scratch);
-  scratch.last_batch.assign(scratch.bodies.rows + SolverBodies::kPadRows, 0);
+  // Packing reads and writes only the awake rows' entries (systems/contact_batches.h).
+  scratch.last_batch.resize(scratch.bodies.rows + SolverBodies::kPadRows);
+  std::fill_n(scratch.last_batch.begin(), scratch.bodies.awake_rows, 0u);
   // Spheres resting in a pile (ContactSet::piled, marked by the narrowphase) get no exact-bounce
   // position correction (impact_shift) in their impacts with each other: moving a piled sphere by
   // a correction its neighbours do not share makes overlaps, whose push-out and impacts pumped
@@ -453,12 +455,20 @@ void load_and_pack(World& world, SolverScratch& scratch) {
   if (piled.size() != scratch.bodies.rows)
     throw Error("solver: the contacts mark piled spheres for " + std::to_string(piled.size()) +
                 " rows, the world has " + std::to_string(scratch.bodies.rows) + " (the narrowphase must run first)");
+  const std::uint32_t awake_rows = static_cast<std::uint32_t>(scratch.bodies.awake_rows);
   const PackInput in{spheres.radius(), piled, world.pit, static_cast<std::uint32_t>(scratch.bodies.rows),
-                     scratch.last_batch};
+                     scratch.last_batch, 0, awake_rows};
+  // A sleeper's body is read only where an awake sphere meets it: each group loads those of its
+  // pairs as it packs them (no other group of its parity has their rows).
+  auto load_sleepers = [&](std::span<std::vector<Contact>* const> lists) {
+    for (const std::vector<Contact>* list : lists)
+      for (const Contact& c : *list)
+        if (c.b >= awake_rows && c.b < scratch.bodies.rows) load_rows(spheres, scratch.bodies, c.b, c.b + 1);
+  };
   const bool colliders = world.colliders.size() > 0;
 #pragma omp parallel
   {
-    const auto [first, last] = equal_share(static_cast<int>(scratch.bodies.rows));
+    const auto [first, last] = equal_share(static_cast<int>(awake_rows));
     load_rows(spheres, scratch.bodies, static_cast<std::size_t>(first), static_cast<std::size_t>(last));
     for (int parity = 0; parity < 2; ++parity) {
       if (parity == 1) {
@@ -475,6 +485,7 @@ void load_and_pack(World& world, SolverScratch& scratch) {
       for (int g = first_group; g < last_group; ++g) {
         pack_planes(groups[g].statics, planes, groups[g].planes);
         pack_pairs(groups[g].pairs, pairs, groups[g].pair_batches);
+        load_sleepers(groups[g].pairs);
         groups[g].colliders.clear();
         if (colliders) list_colliders(groups[g]);
       }
@@ -494,6 +505,7 @@ void load_and_pack(World& world, SolverScratch& scratch) {
   PackInput spanning = in;
   spanning.stamp = in.stamp + 5 * kStampStride;
   pack_pairs({&serial, 1}, spanning, scratch.serial);
+  load_sleepers({&serial, 1});
 }
 
 // A sleeper's pairs with other sleepers, its floor, walls and colliders are neither found nor
@@ -671,6 +683,13 @@ void solve_contacts(World& world, SolverScratch& scratch) {
     step.collider_time = static_cast<float>(sub + 1) * h;  // and where it ends, as the spheres now are
     step.sweep<ContactPass::Relax>(sub);
     step.args.frames_current = settings.keep_pair_frames && !team_state.shifted[static_cast<std::size_t>(sub)].load(std::memory_order_relaxed);
+  }
+  // The collider guard may move any sleeper a limb reaches: it reads every body.
+  if (world.colliders.size() > 0) {
+    const std::int64_t first = static_cast<std::int64_t>(scratch.bodies.awake_rows);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = first; i < static_cast<std::int64_t>(rows); ++i)
+      load_rows(spheres, scratch.bodies, static_cast<std::size_t>(i), static_cast<std::size_t>(i) + 1);
   }
   const std::vector<std::uint32_t> guarded =
       guard_colliders(world.colliders, world.step(), spheres.position(), scratch.bodies);  // before the positions are stored
