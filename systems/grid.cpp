@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 
@@ -76,23 +77,16 @@ void choose_extent(SpatialGrid& g, const Bounds& b, std::size_t n) {
   }
 }
 
-}  // namespace
-
-void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> r, GridScratch& s,
-                std::span<const std::uint8_t> asleep) {
-  const std::size_t n = p.size();
-  choose_extent(g, measure(p, r), n);
+// A stable parallel counting sort of rows [0, count) by cell key into slots [0, slots): fills
+// cell_start[0, slots], and new_to_old and cell_of_row for those rows. Where `asleep` marks
+// sleepers (the grid split), they take key cells + cell, after every awake row.
+void sort_rows(SpatialGrid& g, std::span<const Vec3> p, std::span<const std::uint8_t> asleep, std::size_t count,
+               std::size_t slots, GridScratch& s) {
   const std::size_t cells = g.cell_count();
-  // Sleepers sort by key cells + cell, after every awake row.
-  g.split = asleep.size() == n && any_asleep(asleep);
-  const std::size_t slots = g.split ? 2 * cells : cells;
   const int threads = omp_get_max_threads();
-  s.keys.resize(n);
+  s.keys.resize(count);
   s.histograms.assign(static_cast<std::size_t>(threads) * slots, 0);
-  g.cell_start.assign(slots + 1, 0);
-  g.cell_of_row.resize(n);
-  g.new_to_old.resize(n);
-  const std::int64_t count = static_cast<std::int64_t>(n);
+  const std::int64_t rows = static_cast<std::int64_t>(count);
   std::vector<std::uint32_t> range_offset(static_cast<std::size_t>(threads), 0);
 
 #pragma omp parallel num_threads(threads)
@@ -100,11 +94,11 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
     const int t = omp_get_thread_num();
     const int team = omp_get_num_threads();
     // The same contiguous chunk per thread in both passes keeps the scatter stable.
-    const std::int64_t begin = count * t / team, end = count * (t + 1) / team;
+    const std::int64_t begin = rows * t / team, end = rows * (t + 1) / team;
     std::uint32_t* hist = s.histograms.data() + static_cast<std::size_t>(t) * slots;
     for (std::int64_t i = begin; i < end; ++i) {
       std::uint32_t k = g.key(g.clamp_x(p[i].x()), g.clamp_y(p[i].y()), g.clamp_z(p[i].z()));
-      if (g.split && asleep[i]) k += static_cast<std::uint32_t>(cells);
+      if (!asleep.empty() && asleep[i]) k += static_cast<std::uint32_t>(cells);
       s.keys[i] = k;
       ++hist[k];
     }
@@ -144,11 +138,65 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
       g.cell_of_row[dst] = k >= cells ? k - static_cast<std::uint32_t>(cells) : k;
     }
   }
-  g.cell_start[slots] = static_cast<std::uint32_t>(n);
+  g.cell_start[slots] = static_cast<std::uint32_t>(count);
+}
+
+struct Frame {
+  float cell_size, slow_margin, max_radius;
+  Vec3 origin;
+  int nx, ny, nz;
+  bool operator==(const Frame&) const = default;
+};
+Frame frame_of(const SpatialGrid& g) { return {g.cell_size, g.slow_margin, g.max_radius, g.origin, g.nx, g.ny, g.nz}; }
+
+// Whether the last rebuild's sleepers are all still asleep in the rows it gave them, no sphere
+// has fallen asleep since, the frame is the same, and each sleeper is where it was then, to the
+// bit (`kept`: their positions after that rebuild; a limb's guard or a user may move one): then
+// they are still sorted, and a rebuild keeps them where they are. A byte compare, where
+// recomputing their cells took three divisions a row and most of the settled pour's rebuild.
+bool sleepers_in_place(const SpatialGrid& g, const Frame& last, bool last_split, std::span<const Vec3> p,
+                       std::span<const std::uint8_t> asleep, const std::vector<Vec3>& kept) {
+  const std::size_t n = p.size();
+  if (!last_split || !(frame_of(g) == last) || g.cell_of_row.size() != n || g.cell_start.size() != 2 * g.cell_count() + 1 ||
+      g.cell_start.back() != n)
+    return false;
+  const RowSpans spans = row_spans(asleep);
+  const std::size_t awake = g.awake_rows();
+  if (spans.awake_end > awake || spans.asleep_begin != awake || kept.size() != n - awake) return false;
+  return std::memcmp(p.data() + awake, kept.data(), kept.size() * sizeof(Vec3)) == 0;
+}
+
+}  // namespace
+
+void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> r, GridScratch& s,
+                std::span<const std::uint8_t> asleep) {
+  const std::size_t n = p.size();
+  const Frame last = frame_of(g);
+  const bool last_split = g.split;
+  choose_extent(g, measure(p, r), n);
+  const std::size_t cells = g.cell_count();
+  g.cell_of_row.resize(n);
+  g.new_to_old.resize(n);
+  // A settled pit: the sleepers keep their rows, cells and index (the sleeper half of
+  // cell_start), and only the awake rows are sorted. The full sort would give the same order:
+  // sorted rows stay in place in a stable sort.
+  if (asleep.size() == n && sleepers_in_place(g, last, last_split, p, asleep, s.sleeper_positions)) {
+    const std::size_t awake = g.awake_rows();
+    sort_rows(g, p, {}, awake, cells, s);
+    std::iota(g.new_to_old.begin() + static_cast<std::ptrdiff_t>(awake), g.new_to_old.end(), static_cast<std::uint32_t>(awake));
+    return;
+  }
+  // Sleepers sort by key cells + cell, after every awake row.
+  g.split = asleep.size() == n && any_asleep(asleep);
+  const std::size_t slots = g.split ? 2 * cells : cells;
+  g.cell_start.assign(slots + 1, 0);
+  sort_rows(g, p, g.split ? asleep : std::span<const std::uint8_t>{}, n, slots, s);
+  s.sleeper_positions.clear();  // the caller keeps them once the rows are in this order
 }
 
 std::vector<MemoryItem> GridSystem::held() const {
-  return {{"histograms and keys", held_bytes(scratch_.histograms) + held_bytes(scratch_.keys)}};
+  return {{"histograms and keys", held_bytes(scratch_.histograms) + held_bytes(scratch_.keys)},
+          {"sleepers' positions", held_bytes(scratch_.sleeper_positions)}};
 }
 
 Access GridSystem::access() const {
@@ -176,6 +224,10 @@ void GridSystem::run(World& world) {
   world.grid.kept_order = false;
   build_grid(world.grid, world.spheres.position(), world.spheres.radius(), scratch_, world.spheres.asleep());
   world.spheres.permute(world.grid.new_to_old);
+  // Where the sleepers now lie, for the next rebuild to tell whether they stayed put.
+  auto x = world.spheres.position();
+  if (world.grid.split && scratch_.sleeper_positions.empty())
+    scratch_.sleeper_positions.assign(x.begin() + world.grid.awake_rows(), x.end());
 }
 
 }  // namespace ballpit

@@ -20,6 +20,9 @@ namespace ballpit {
 struct GridScratch {
   std::vector<std::uint32_t> histograms;  // threads x cells, reused between steps
   std::vector<std::uint32_t> keys;        // cell key of each unsorted row
+  // The sleepers' positions, in their rows, as the last full sort left them (GridSystem::run
+  // keeps them; empty: none kept, and the next rebuild sorts every row).
+  std::vector<Vec3> sleeper_positions;
 };
 
 // Speculative margin a one-cell search covers, as a fraction of the largest radius. Larger
@@ -30,7 +33,10 @@ inline constexpr std::size_t kCellsPerSphere = 2;
 
 // Sorts rows by cell, sleepers (asleep[i] != 0; none if `asleep` is empty) after the awake
 // rows: fills grid.cell_start, grid.cell_of_row (in sorted order) and grid.new_to_old. Stable,
-// so the order is the same for any thread count.
+// so the order is the same for any thread count. Where no sphere has woken or fallen asleep
+// since the last rebuild and the sleepers are where scratch.sleeper_positions says, only the
+// awake rows are sorted: the sleepers keep their rows (a settled pit's rebuild then costs what
+// its awake spheres do).
 void build_grid(SpatialGrid& grid, std::span<const Vec3> positions, std::span<const float> radii,
                 GridScratch& scratch, std::span<const std::uint8_t> asleep = {});
 

@@ -88,6 +88,54 @@ TEST(Grid, SleepersSortAfterTheAwakeRowsWithCellsOfTheirOwn) {
   EXPECT_EQ(g.slab_sleeper_begin(0), c.x.size());
 }
 
+// A rebuild with no sleeper woken, fallen asleep or moved sorts only the awake rows; it must give
+// exactly what the full sort gives, and a sleeper that moved (a limb's guard, a user) must be
+// sorted again, into its new cell.
+TEST(Grid, SleepersThatStayPutKeepTheirRowsAndOneThatMovedIsSortedAgain) {
+  Cloud c = random_cloud(5000, 1.0f, 1.0f, 5);
+  std::vector<std::uint8_t> asleep(c.x.size());
+  for (std::size_t i = 0; i < asleep.size(); ++i) asleep[i] = (i % 5) < 3;
+  SpatialGrid g;
+  GridScratch scratch;
+  // One rebuild, checked against a full sort of the same rows, and the rows put in its order,
+  // with the sleepers' positions kept, as GridSystem::run does.
+  auto rebuild = [&](const char* what) {
+    build_grid(g, c.x, c.r, scratch, asleep);
+    SpatialGrid full;
+    GridScratch fresh;
+    build_grid(full, c.x, c.r, fresh, asleep);
+    EXPECT_EQ(g.new_to_old, full.new_to_old) << what;
+    EXPECT_TRUE(std::equal(g.cell_start.begin(), g.cell_start.end(), full.cell_start.begin(), full.cell_start.end())) << what;
+    EXPECT_TRUE(std::equal(g.cell_of_row.begin(), g.cell_of_row.end(), full.cell_of_row.begin(), full.cell_of_row.end())) << what;
+    Cloud sorted;
+    std::vector<std::uint8_t> sorted_asleep;
+    for (std::uint32_t old : g.new_to_old) {
+      sorted.x.push_back(c.x[old]);
+      sorted.r.push_back(c.r[old]);
+      sorted_asleep.push_back(asleep[old]);
+    }
+    c = sorted;
+    asleep = sorted_asleep;
+    if (scratch.sleeper_positions.empty()) scratch.sleeper_positions.assign(c.x.begin() + g.awake_rows(), c.x.end());
+  };
+  rebuild("first");
+  const std::size_t awake = g.awake_rows();
+  ASSERT_GT(awake, 0u);
+  // Awake spheres move into other cells (trading places, so that the grid's extent stays);
+  // sleepers stay, and keep their rows.
+  for (std::size_t i = 0; i + awake / 2 < awake; i += 3) std::swap(c.x[i], c.x[i + awake / 2]);
+  rebuild("awake spheres moved");
+  for (std::size_t i = awake; i < c.x.size(); ++i) ASSERT_EQ(g.new_to_old[i], i) << "a sleeper left its row";
+  EXPECT_FALSE(scratch.sleeper_positions.empty()) << "the sleepers' positions were still good";
+  // A sleeper moved to another one's place: sorted again, into its new cell.
+  const std::size_t moved = awake + 17;
+  c.x[moved] = c.x[c.x.size() - 1];
+  rebuild("a sleeper moved");
+  const std::size_t row = static_cast<std::size_t>(std::find(g.new_to_old.begin(), g.new_to_old.end(), moved) - g.new_to_old.begin());
+  const Vec3& p = c.x[row];
+  EXPECT_EQ(g.cell_of_row[row], g.key(g.clamp_x(p.x()), g.clamp_y(p.y()), g.clamp_z(p.z())));
+}
+
 TEST(Grid, CellFitsTheLargestSphereAndItsMargin) {
   Cloud c = random_cloud(1000, 1.0f, 1.0f, 2);
   c.r[17] = 0.3f;  // one big sphere sets the cell for all
