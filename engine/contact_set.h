@@ -130,10 +130,16 @@ struct ContactSet {
     }
   };
   RowEntries row_entries(std::uint32_t row, std::uint32_t entity) const {
-    if (row < row_slept.size() && row_slept[row] && kept.asleep(entity))
-      return {kept.entries_of(entity), &kept, kept.since_of(entity)};
+    return row < row_slept.size() && row_slept[row] ? kept_entries(entity) : fresh_entries(row);
+  }
+  // The row's entries in warm (a row that did not sleep), and an entity's kept ones.
+  RowEntries fresh_entries(std::uint32_t row) const {
     if (row + 1 >= warm_begin.size()) return {};
     return {{warm.data() + warm_begin[row], warm.data() + warm_begin[row + 1]}};
+  }
+  RowEntries kept_entries(std::uint32_t entity) const {
+    if (!kept.asleep(entity)) return {};
+    return {kept.entries_of(entity), &kept, kept.since_of(entity)};
   }
   // Every row's live entries as one per-row cache (what a snapshot stores), by the row's entity.
   void rows_cache(std::span<const std::uint32_t> entity, std::vector<std::uint32_t>& begin,

@@ -40,6 +40,7 @@ constexpr PerThread kRowsPerThread{.spinning = 1024, .passive = 2048};
 constexpr std::uint32_t kFastRow = 1;    // margin beyond what a one-cell search covers
 constexpr std::uint32_t kAsleepRow = 2;
 constexpr std::uint32_t kAwakeRow = 4;   // so that a search can skip every awake partner
+constexpr std::uint32_t kSleptRow = 8;   // slept when the cache was written: its entries are kept by entity
 
 // Slow spheres test their candidates this many rows at a time (one SSE register of floats).
 constexpr std::uint32_t kLanes = 4;
@@ -168,9 +169,11 @@ struct SlabSearch {
     return j >= grid.slab_sleeper_begin(slab) && j < grid.slab_sleeper_begin(next);
   }
 
-  // Last step's entries of the sphere at row i (engine/contact_set.h: a sleeper's are kept apart).
+  // Last step's entries of the sphere at row i (engine/contact_set.h: a sleeper's are kept apart,
+  // which its flag says without a read of the cache's own).
   ContactSet::RowEntries cached(std::uint32_t i) const {
-    return new_to_old.empty() ? ContactSet::RowEntries{} : previous.row_entries(new_to_old[i], entity[i]);
+    if (new_to_old.empty()) return {};
+    return (scratch.flags[i] & kSleptRow) ? previous.kept_entries(entity[i]) : previous.fresh_entries(new_to_old[i]);
   }
 
   const WarmStartEntry* warm(std::uint32_t i, std::uint32_t partner) const { return cached(i).find(partner); }
@@ -556,20 +559,14 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   const std::int64_t count = static_cast<std::int64_t>(n);
   auto entity = spheres.entity_index();
   // A row that slept has its entries, and their summary, kept by entity (engine/contact_set.h):
-  // the old-row pass marks it with every bit, and the gather looks the summary up.
-  constexpr std::uint32_t kSlept = ~0u;
-  auto summary_of = [&](std::uint32_t old_row, std::uint32_t e) {
-    const std::uint32_t s = scratch.cached_by_old_row[old_row];
-    return s == kSlept && e < previous.kept.partners.size() ? previous.kept.partners[e] : s;
-  };
+  // the old-row pass skips it, and the gather looks the summary up.
+  auto slept = [&](std::uint32_t old_row) { return old_row < previous.row_slept.size() && previous.row_slept[old_row]; };
+  auto kept_summary = [&](std::uint32_t e) { return e < previous.kept.partners.size() ? previous.kept.partners[e] : 0u; };
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
     for (std::int64_t o = 0; o < old_rows; ++o) {
-      if (static_cast<std::size_t>(o) < previous.row_slept.size() && previous.row_slept[o]) {
-        scratch.cached_by_old_row[o] = kSlept;
-        continue;
-      }
+      if (slept(static_cast<std::uint32_t>(o))) continue;  // its summary is kept_summary's
       std::uint32_t summary = 0;
       for (std::uint32_t k = previous.warm_begin[o]; k < previous.warm_begin[o + 1]; ++k)
         summary |= partner_bit(previous.warm[k].partner);
@@ -586,9 +583,10 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
       scratch.z[i] = x[i].z();
       scratch.radius[i] = r[i];
       scratch.margin[i] = m;
-      scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : kAwakeRow);
       const bool has_old_row = static_cast<std::size_t>(i) < new_to_old.size() && new_to_old[i] < old_rows;
-      scratch.cached[i] = has_old_row ? summary_of(new_to_old[i], entity[i]) : 0u;
+      const bool kept = has_old_row && slept(new_to_old[i]);
+      scratch.flags[i] = (m > grid.slow_margin ? kFastRow : 0u) | (asleep[i] ? kAsleepRow : kAwakeRow) | (kept ? kSleptRow : 0u);
+      scratch.cached[i] = !has_old_row ? 0u : kept ? kept_summary(entity[i]) : scratch.cached_by_old_row[new_to_old[i]];
     }  // and the loop's barrier
 
     // Contiguous runs of slabs of about equal rows per thread (engine/thread_share.h): each
