@@ -30,6 +30,11 @@ struct SpatialGrid {
   bool split = false;                       // sleepers sorted after the awake rows
   std::vector<std::uint32_t> new_to_old;    // the last rebuild's permutation
   bool kept_order = false;                  // the last step skipped the rebuild: new_to_old is the identity
+  // The last full sort, by a stamp no other grid's sort shares, and the rebuilds since that
+  // found no sleep changed and every sleeper in place, and kept their rows (systems/grid.h):
+  // what a reader made of the sleepers' rows at one of those still holds for them.
+  std::uint64_t sleepers_sorted = 0;
+  std::uint32_t kept_since_sorted = 0;
 
   std::size_t cell_count() const { return static_cast<std::size_t>(nx) * ny * nz; }
   std::uint32_t key(int x, int y, int z) const {

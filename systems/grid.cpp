@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -184,9 +185,13 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
     const std::size_t awake = g.awake_rows();
     sort_rows(g, p, {}, awake, cells, s);
     std::iota(g.new_to_old.begin() + static_cast<std::ptrdiff_t>(awake), g.new_to_old.end(), static_cast<std::uint32_t>(awake));
+    ++g.kept_since_sorted;
     return;
   }
   // Sleepers sort by key cells + cell, after every awake row.
+  static std::atomic<std::uint64_t> sorts{0};
+  g.sleepers_sorted = ++sorts;
+  g.kept_since_sorted = 0;
   g.split = asleep.size() == n && any_asleep(asleep);
   const std::size_t slots = g.split ? 2 * cells : cells;
   g.cell_start.assign(slots + 1, 0);

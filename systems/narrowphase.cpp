@@ -556,7 +556,19 @@ void find_contacts(World& world, NarrowphaseScratch& scratch) {
   scratch.cached_by_old_row.resize(static_cast<std::size_t>(old_rows));
   scratch.cached.resize(n);
   std::span<const std::uint32_t> new_to_old = grid.new_to_old;
-  const std::int64_t count = static_cast<std::int64_t>(n);
+  // The sleepers' row columns stay as the last step made them when it made them after the
+  // rebuild that last sorted the sleepers: their rows, positions, margins and flags, and the
+  // cache's view of them (slept rows, their kept summaries), are as they were then (a sleep
+  // change or a sleeper moved sorts them again). A settled pit's pass then costs its awake rows.
+  // (Made at the sorting rebuild itself, the slept rows were the cache's before it: not yet.)
+  const bool sleepers_kept = grid.split && grid.kept_since_sorted > 0 && scratch.made_kept &&
+                             scratch.sleepers_sorted == grid.sleepers_sorted && scratch.made_rows == n;
+  const std::int64_t count = static_cast<std::int64_t>(sleepers_kept ? grid.awake_rows() : n);
+  if (!sleepers_kept) {
+    scratch.sleepers_sorted = grid.sleepers_sorted;
+    scratch.made_kept = grid.kept_since_sorted > 0;
+    scratch.made_rows = n;
+  }
   auto entity = spheres.entity_index();
   // A row that slept has its entries, and their summary, kept by entity (engine/contact_set.h):
   // the old-row pass skips it, and the gather looks the summary up.

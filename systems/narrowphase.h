@@ -34,6 +34,12 @@ struct NarrowphaseScratch {
   // they name, so a clear bit proves a pair absent (narrowphase.cpp). Made by last step's row
   // (the cache's order), then gathered into this step's.
   Column<std::uint32_t> cached_by_old_row, cached;
+  // When the sleepers' rows of these columns were last made: after which of the grid's sorts
+  // (SpatialGrid::sleepers_sorted), at a rebuild that kept them in place or not, for how many
+  // rows. Made at a rebuild that kept them, they hold until the grid sorts them again.
+  std::uint64_t sleepers_sorted = 0;
+  bool made_kept = false;
+  std::size_t made_rows = 0;
 };
 
 // Fills world.contacts from the current (grid-sorted) rows: an awake sphere owns its pairs with
