@@ -1,6 +1,6 @@
 #include "engine/contact_set.h"
 
-#include <algorithm>
+#include <utility>
 
 namespace ballpit {
 

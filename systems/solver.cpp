@@ -606,6 +606,7 @@ void store_warm_start(World& world, SolverScratch& scratch) {
   });
   keep_sleepers(world, scratch);
 }
+
 }  // namespace
 
 std::vector<MemoryItem> solver_held(const SolverScratch& s) {

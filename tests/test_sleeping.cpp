@@ -645,8 +645,12 @@ TEST(Sleeping, ASearchThatKeepsTheSleepersRowsFindsWhatAFreshSearchFinds) {
     wake_approached(s.world);
     grid.run(s.world);
     find_contacts(s.world, kept);
+    // The search took last step's sleeper columns: made at a rebuild that kept the rows, after
+    // the grid's last full sort (systems/narrowphase.h).
     const bool reused = s.world.grid.kept_since_sorted > 1;
     if (reused) {
+      ASSERT_TRUE(kept.made_kept) << "step " << k;
+      ASSERT_EQ(kept.sleepers_sorted, s.world.grid.sleepers_sorted) << "step " << k;
       std::vector<SlabContacts> found = s.world.contacts.slabs;
       NarrowphaseScratch fresh;
       find_contacts(s.world, fresh);
@@ -660,6 +664,7 @@ TEST(Sleeping, ASearchThatKeepsTheSleepersRowsFindsWhatAFreshSearchFinds) {
             EXPECT_EQ((*x)[c].a, (*y)[c].a);
             EXPECT_EQ((*x)[c].b, (*y)[c].b);
             EXPECT_EQ((*x)[c].normal_impulse, (*y)[c].normal_impulse);
+            EXPECT_EQ((*x)[c].friction_impulse, (*y)[c].friction_impulse);
           }
         }
       }
