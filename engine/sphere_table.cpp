@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <new>
@@ -143,8 +144,9 @@ void SphereTable::each_column(Table& table, F&& f) {
   f(table.generation_);
 }
 
-void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
+void SphereTable::permute(std::span<const std::uint32_t> new_to_old, std::size_t moving_rows) {
   const std::int64_t n = static_cast<std::int64_t>(entity_.size());
+  const std::int64_t scanned = static_cast<std::int64_t>(std::min(entity_.size(), moving_rows));
   scratch_.resize(static_cast<std::size_t>(n) * kSlot);
   moved_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   // The columns in rounds, each round's side by side in a row's kSlot bytes, in column order:
@@ -179,7 +181,7 @@ void SphereTable::permute(std::span<const std::uint32_t> new_to_old) {
     std::vector<std::uint32_t>& mine = moved_[static_cast<std::size_t>(omp_get_thread_num())];
     mine.clear();
 #pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t i = 0; i < scanned; ++i)
       if (new_to_old[i] != static_cast<std::uint32_t>(i)) mine.push_back(static_cast<std::uint32_t>(i));
     std::size_t moved = 0;  // after the loop's barrier, every thread's list is complete
     for (int t = 0; t < omp_get_num_threads(); ++t) moved += moved_[static_cast<std::size_t>(t)].size();

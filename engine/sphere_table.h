@@ -89,8 +89,10 @@ class SphereTable {
   std::span<std::uint8_t> mut_asleep() { return write(ColumnId::SphereSleep, asleep_); }
 
   // Moves row new_to_old[i] to row i for every column, and updates the entity -> row map.
-  // new_to_old must be a permutation of [0, size()). Each column keeps its buffer.
-  void permute(std::span<const std::uint32_t> new_to_old);
+  // new_to_old must be a permutation of [0, size()), the identity from row `moving_rows` on
+  // (a settled pit's sleepers keep their rows: those are not even read). Each column keeps its
+  // buffer.
+  void permute(std::span<const std::uint32_t> new_to_old, std::size_t moving_rows = SIZE_MAX);
 
   // Bytes held per sphere by the columns, permute()'s scratch included (for the memory report).
   std::size_t bytes_per_sphere() const;

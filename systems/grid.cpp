@@ -23,19 +23,14 @@ namespace {
 // 2) and loses at 10k (0.16 and 0.25 ms).
 constexpr std::size_t kRowsPerThread = 32768;
 
-struct Bounds {
-  Vec3 lo = Vec3::Constant(std::numeric_limits<float>::max());
-  Vec3 hi = Vec3::Constant(-std::numeric_limits<float>::max());
-  float max_radius = 0.0f;
-};
-
-// Min, max and largest radius: exact operations, so the parallel reduction is deterministic.
-Bounds measure(std::span<const Vec3> p, std::span<const float> r) {
-  Bounds total;
+// Min, max and largest radius: exact operations, so the parallel reduction is deterministic, and
+// bounds of parts added together are the bounds of the whole.
+GridBounds measure(std::span<const Vec3> p, std::span<const float> r) {
+  GridBounds total;
   const std::int64_t n = static_cast<std::int64_t>(p.size());
 #pragma omp parallel
   {
-    Bounds local;
+    GridBounds local;
 #pragma omp for schedule(static) nowait
     for (std::int64_t i = 0; i < n; ++i) {
       if (!p[i].allFinite()) continue;  // the guard reports it; the grid clamps it to cell 0
@@ -44,17 +39,13 @@ Bounds measure(std::span<const Vec3> p, std::span<const float> r) {
       local.max_radius = std::max(local.max_radius, r[i]);
     }
 #pragma omp critical
-    {
-      total.lo = total.lo.cwiseMin(local.lo);
-      total.hi = total.hi.cwiseMax(local.hi);
-      total.max_radius = std::max(total.max_radius, local.max_radius);
-    }
+    total.add(local);
   }
-  if (total.lo.x() > total.hi.x()) total.lo = total.hi = Vec3::Zero();
   return total;
 }
 
-void choose_extent(SpatialGrid& g, const Bounds& b, std::size_t n) {
+void choose_extent(SpatialGrid& g, GridBounds b, std::size_t n) {
+  if (b.lo.x() > b.hi.x()) b.lo = b.hi = Vec3::Zero();  // no finite position
   g.max_radius = b.max_radius;
   g.slow_margin = kSlowMarginFraction * b.max_radius;
   g.cell_size = std::max(2.0f * (b.max_radius + g.slow_margin), 1e-6f);
@@ -142,6 +133,27 @@ void sort_rows(SpatialGrid& g, std::span<const Vec3> p, std::span<const std::uin
   g.cell_start[slots] = static_cast<std::uint32_t>(count);
 }
 
+// The same sort of rows [0, count) for few rows among many cells, in one thread: a comparison
+// sort of the rows, then one sweep over the cells for their starts, where the counting sort
+// would clear, total and scan a histogram of every cell for each thread (a settled 1M pit's
+// thousand awake rows among 500,000 cells).
+void sort_few_rows(SpatialGrid& g, std::span<const Vec3> p, std::size_t count, std::size_t cells, GridScratch& s) {
+  s.keys.resize(count);
+  s.order.resize(count);
+  for (std::size_t i = 0; i < count; ++i) s.keys[i] = g.key(g.clamp_x(p[i].x()), g.clamp_y(p[i].y()), g.clamp_z(p[i].z()));
+  std::iota(s.order.begin(), s.order.end(), 0u);
+  std::stable_sort(s.order.begin(), s.order.end(), [&](std::uint32_t a, std::uint32_t b) { return s.keys[a] < s.keys[b]; });
+  std::size_t next = 0;
+  for (std::size_t k = 0; k < cells; ++k) {
+    g.cell_start[k] = static_cast<std::uint32_t>(next);
+    for (; next < count && s.keys[s.order[next]] == k; ++next) {
+      g.new_to_old[next] = s.order[next];
+      g.cell_of_row[next] = static_cast<std::uint32_t>(k);
+    }
+  }
+  g.cell_start[cells] = static_cast<std::uint32_t>(count);
+}
+
 struct Frame {
   float cell_size, slow_margin, max_radius;
   Vec3 origin;
@@ -151,20 +163,23 @@ struct Frame {
 Frame frame_of(const SpatialGrid& g) { return {g.cell_size, g.slow_margin, g.max_radius, g.origin, g.nx, g.ny, g.nz}; }
 
 // Whether the last rebuild's sleepers are all still asleep in the rows it gave them, no sphere
-// has fallen asleep since, the frame is the same, and each sleeper is where it was then, to the
-// bit (`kept`: their positions after that rebuild; a limb's guard or a user may move one): then
-// they are still sorted, and a rebuild keeps them where they are. A byte compare, where
-// recomputing their cells took three divisions a row and most of the settled pour's rebuild.
-bool sleepers_in_place(const SpatialGrid& g, const Frame& last, bool last_split, std::span<const Vec3> p,
-                       std::span<const std::uint8_t> asleep, const std::vector<Vec3>& kept) {
+// has fallen asleep since, and each sleeper is where it was then, as large, to the bit (a limb's
+// guard or a user may move one or change its radius): then they are still sorted, and, if the
+// frame stays the same, a rebuild keeps them where they are. A byte compare, where recomputing
+// their cells took three divisions a row and most of the settled pour's rebuild.
+bool sleepers_unchanged(const SpatialGrid& g, bool last_split, std::span<const Vec3> p, std::span<const float> r,
+                        std::span<const std::uint8_t> asleep, const GridScratch& s) {
   const std::size_t n = p.size();
-  if (!last_split || !(frame_of(g) == last) || g.cell_of_row.size() != n || g.cell_start.size() != 2 * g.cell_count() + 1 ||
+  if (!last_split || asleep.size() != n || g.cell_of_row.size() != n || g.cell_start.size() != 2 * g.cell_count() + 1 ||
       g.cell_start.back() != n)
     return false;
   const RowSpans spans = row_spans(asleep);
   const std::size_t awake = g.awake_rows();
-  if (spans.awake_end > awake || spans.asleep_begin != awake || kept.size() != n - awake) return false;
-  return std::memcmp(p.data() + awake, kept.data(), kept.size() * sizeof(Vec3)) == 0;
+  const std::size_t kept = s.sleeper_positions.size();
+  if (spans.awake_end > awake || spans.asleep_begin != awake || kept != n - awake || s.sleeper_radii.size() != kept)
+    return false;
+  return std::memcmp(p.data() + awake, s.sleeper_positions.data(), kept * sizeof(Vec3)) == 0 &&
+         std::memcmp(r.data() + awake, s.sleeper_radii.data(), kept * sizeof(float)) == 0;
 }
 
 }  // namespace
@@ -173,22 +188,31 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
                 std::span<const std::uint8_t> asleep) {
   const std::size_t n = p.size();
   const Frame last = frame_of(g);
-  const bool last_split = g.split;
-  choose_extent(g, measure(p, r), n);
+  // A settled pit: the sleepers keep their rows, cells and index (the sleeper half of
+  // cell_start), and only the awake rows are measured and sorted. The full sort would give the
+  // same order (sorted rows stay in place in a stable sort), and the same frame: bounds add up.
+  if (sleepers_unchanged(g, g.split, p, r, asleep, s)) {
+    const std::size_t awake = g.awake_rows();
+    GridBounds b = measure(p.first(awake), r.first(awake));
+    b.add(s.sleeper_bounds);
+    choose_extent(g, b, n);
+    if (frame_of(g) == last) {
+      const std::size_t cells = g.cell_count();
+      if (awake < cells / 8) sort_few_rows(g, p, awake, cells, s);
+      else sort_rows(g, p, {}, awake, cells, s);
+      // The sleepers' rows stay: the last rebuild that kept them left them so already.
+      if (g.kept_since_sorted == 0)
+        std::iota(g.new_to_old.begin() + static_cast<std::ptrdiff_t>(awake), g.new_to_old.end(), static_cast<std::uint32_t>(awake));
+      ++g.kept_since_sorted;
+      return;
+    }
+  } else {
+    choose_extent(g, measure(p, r), n);
+  }
+  // Sleepers sort by key cells + cell, after every awake row.
   const std::size_t cells = g.cell_count();
   g.cell_of_row.resize(n);
   g.new_to_old.resize(n);
-  // A settled pit: the sleepers keep their rows, cells and index (the sleeper half of
-  // cell_start), and only the awake rows are sorted. The full sort would give the same order:
-  // sorted rows stay in place in a stable sort.
-  if (asleep.size() == n && sleepers_in_place(g, last, last_split, p, asleep, s.sleeper_positions)) {
-    const std::size_t awake = g.awake_rows();
-    sort_rows(g, p, {}, awake, cells, s);
-    std::iota(g.new_to_old.begin() + static_cast<std::ptrdiff_t>(awake), g.new_to_old.end(), static_cast<std::uint32_t>(awake));
-    ++g.kept_since_sorted;
-    return;
-  }
-  // Sleepers sort by key cells + cell, after every awake row.
   static std::atomic<std::uint64_t> sorts{0};
   g.sleepers_sorted = ++sorts;
   g.kept_since_sorted = 0;
@@ -196,12 +220,21 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
   const std::size_t slots = g.split ? 2 * cells : cells;
   g.cell_start.assign(slots + 1, 0);
   sort_rows(g, p, g.split ? asleep : std::span<const std::uint8_t>{}, n, slots, s);
-  s.sleeper_positions.clear();  // the caller keeps them once the rows are in this order
+  s.sleeper_positions.clear();  // remember_sleepers keeps them once the rows are in this order
+  s.sleeper_radii.clear();
+}
+
+void remember_sleepers(const SpatialGrid& g, std::span<const Vec3> p, std::span<const float> r, GridScratch& s) {
+  if (!g.split || !s.sleeper_positions.empty()) return;
+  const std::size_t awake = g.awake_rows();
+  s.sleeper_positions.assign(p.begin() + static_cast<std::ptrdiff_t>(awake), p.end());
+  s.sleeper_radii.assign(r.begin() + static_cast<std::ptrdiff_t>(awake), r.end());
+  s.sleeper_bounds = measure(p.subspan(awake), r.subspan(awake));
 }
 
 std::vector<MemoryItem> GridSystem::held() const {
-  return {{"histograms and keys", held_bytes(scratch_.histograms) + held_bytes(scratch_.keys)},
-          {"sleepers' positions", held_bytes(scratch_.sleeper_positions)}};
+  return {{"histograms and keys", held_bytes(scratch_.histograms) + held_bytes(scratch_.keys) + held_bytes(scratch_.order)},
+          {"sleepers' positions", held_bytes(scratch_.sleeper_positions) + held_bytes(scratch_.sleeper_radii)}};
 }
 
 Access GridSystem::access() const {
@@ -228,11 +261,10 @@ void GridSystem::run(World& world) {
   }
   world.grid.kept_order = false;
   build_grid(world.grid, world.spheres.position(), world.spheres.radius(), scratch_, world.spheres.asleep());
-  world.spheres.permute(world.grid.new_to_old);
-  // Where the sleepers now lie, for the next rebuild to tell whether they stayed put.
-  auto x = world.spheres.position();
-  if (world.grid.split && scratch_.sleeper_positions.empty())
-    scratch_.sleeper_positions.assign(x.begin() + world.grid.awake_rows(), x.end());
+  // A rebuild that kept the sleepers moves only the awake rows.
+  const SpatialGrid& g = world.grid;
+  world.spheres.permute(g.new_to_old, g.kept_since_sorted > 0 ? g.awake_rows() : g.new_to_old.size());
+  remember_sleepers(g, world.spheres.position(), world.spheres.radius(), scratch_);
 }
 
 }  // namespace ballpit

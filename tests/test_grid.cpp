@@ -89,16 +89,17 @@ TEST(Grid, SleepersSortAfterTheAwakeRowsWithCellsOfTheirOwn) {
 }
 
 // A rebuild with no sleeper woken, fallen asleep or moved sorts only the awake rows; it must give
-// exactly what the full sort gives, and a sleeper that moved (a limb's guard, a user) must be
-// sorted again, into its new cell.
-TEST(Grid, SleepersThatStayPutKeepTheirRowsAndOneThatMovedIsSortedAgain) {
+// exactly what the full sort gives, and a sleeper that moved or grew (a limb's guard, a user)
+// must be sorted again, into its new cell. `asleep_of_every` rows in `every` sleep.
+// `few`: whether the awake rows are few enough for sort_few_rows (systems/grid.cpp: an eighth of the cells).
+void check_sleepers_keep_their_rows(std::size_t asleep_of_every, std::size_t every, bool few) {
   Cloud c = random_cloud(5000, 1.0f, 1.0f, 5);
   std::vector<std::uint8_t> asleep(c.x.size());
-  for (std::size_t i = 0; i < asleep.size(); ++i) asleep[i] = (i % 5) < 3;
+  for (std::size_t i = 0; i < asleep.size(); ++i) asleep[i] = (i % every) < asleep_of_every;
   SpatialGrid g;
   GridScratch scratch;
   // One rebuild, checked against a full sort of the same rows, and the rows put in its order,
-  // with the sleepers' positions kept, as GridSystem::run does.
+  // with the sleepers kept, as GridSystem::run does.
   auto rebuild = [&](const char* what) {
     build_grid(g, c.x, c.r, scratch, asleep);
     SpatialGrid full;
@@ -116,24 +117,44 @@ TEST(Grid, SleepersThatStayPutKeepTheirRowsAndOneThatMovedIsSortedAgain) {
     }
     c = sorted;
     asleep = sorted_asleep;
-    if (scratch.sleeper_positions.empty()) scratch.sleeper_positions.assign(c.x.begin() + g.awake_rows(), c.x.end());
+    remember_sleepers(g, c.x, c.r, scratch);
   };
   rebuild("first");
   const std::size_t awake = g.awake_rows();
   ASSERT_GT(awake, 0u);
+  EXPECT_EQ(awake < g.cell_count() / 8, few) << awake << " awake rows, " << g.cell_count() << " cells";
   // Awake spheres move into other cells (trading places, so that the grid's extent stays);
-  // sleepers stay, and keep their rows.
-  for (std::size_t i = 0; i + awake / 2 < awake; i += 3) std::swap(c.x[i], c.x[i + awake / 2]);
-  rebuild("awake spheres moved");
-  for (std::size_t i = awake; i < c.x.size(); ++i) ASSERT_EQ(g.new_to_old[i], i) << "a sleeper left its row";
-  EXPECT_FALSE(scratch.sleeper_positions.empty()) << "the sleepers' positions were still good";
+  // sleepers stay, and keep their rows, twice (the second rebuild finds them kept already).
+  for (int round = 0; round < 2; ++round) {
+    for (std::size_t i = 0; i + awake / 2 < awake; i += 3) std::swap(c.x[i], c.x[i + awake / 2]);
+    rebuild("awake spheres moved");
+    for (std::size_t i = awake; i < c.x.size(); ++i) ASSERT_EQ(g.new_to_old[i], i) << "a sleeper left its row";
+    EXPECT_EQ(g.kept_since_sorted, static_cast<std::uint32_t>(round + 1)) << "the sleepers were not kept";
+  }
   // A sleeper moved to another one's place: sorted again, into its new cell.
   const std::size_t moved = awake + 17;
   c.x[moved] = c.x[c.x.size() - 1];
   rebuild("a sleeper moved");
+  EXPECT_EQ(g.kept_since_sorted, 0u) << "a sleeper moved, and the sleepers were kept";
   const std::size_t row = static_cast<std::size_t>(std::find(g.new_to_old.begin(), g.new_to_old.end(), moved) - g.new_to_old.begin());
   const Vec3& p = c.x[row];
   EXPECT_EQ(g.cell_of_row[row], g.key(g.clamp_x(p.x()), g.clamp_y(p.y()), g.clamp_z(p.z())));
+  // A sleeper that grew past the largest radius changes the cells: sorted again.
+  rebuild("kept again");
+  ASSERT_EQ(g.kept_since_sorted, 1u);
+  const float cell = g.cell_size;
+  c.r[g.awake_rows() + 3] = 0.08f;  // the cloud's radii are at most 0.05
+  rebuild("a sleeper grew");
+  EXPECT_EQ(g.kept_since_sorted, 0u) << "a sleeper grew, and the sleepers were kept";
+  EXPECT_GT(g.cell_size, cell);
+}
+
+TEST(Grid, SleepersThatStayPutKeepTheirRowsAndOneThatMovedIsSortedAgain) {
+  check_sleepers_keep_their_rows(3, 5, false);  // 40% awake: the counting sort of the awake rows
+}
+
+TEST(Grid, AFewAwakeRowsAmongSleepersSortAsTheFullSortDoes) {
+  check_sleepers_keep_their_rows(49, 50, true);  // 2% awake, far fewer than the cells: sort_few_rows
 }
 
 TEST(Grid, CellFitsTheLargestSphereAndItsMargin) {
