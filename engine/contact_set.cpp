@@ -1,5 +1,6 @@
 #include "engine/contact_set.h"
 
+#include <atomic>
 #include <utility>
 
 namespace ballpit {
@@ -22,8 +23,14 @@ std::size_t ContactSet::serial_count() const {
   return n;
 }
 
+void SleeperCache::touched() {
+  static std::atomic<std::uint64_t> stamps{0};
+  stamp = ++stamps;
+}
+
 void SleeperCache::forget(std::uint32_t entity) {
   if (!asleep(entity)) return;
+  touched();
   used -= of[entity].count;
   of[entity] = {};
   partners[entity] = 0;
@@ -32,6 +39,7 @@ void SleeperCache::forget(std::uint32_t entity) {
 
 void SleeperCache::fall_asleep(std::uint32_t entity, std::uint32_t at) {
   forget(entity);
+  touched();
   if (entity >= of.size()) {
     of.resize(entity + std::size_t{1});
     partners.resize(of.size(), 0);
@@ -42,6 +50,7 @@ void SleeperCache::fall_asleep(std::uint32_t entity, std::uint32_t at) {
 
 void SleeperCache::keep(std::uint32_t entity, std::span<const WarmStartEntry> from) {
   if (!asleep(entity)) return;
+  touched();
   Sleeper& s = of[entity];
   used -= s.count;
   s.begin = static_cast<std::uint32_t>(entries.size());
@@ -59,6 +68,7 @@ void SleeperCache::keep(std::uint32_t entity, std::span<const WarmStartEntry> fr
 
 void SleeperCache::compact() {
   if (entries.size() <= 2 * used + 4096) return;
+  touched();
   std::vector<WarmStartEntry> packed;
   packed.reserve(used);
   for (Sleeper& s : of) {
@@ -71,6 +81,7 @@ void SleeperCache::compact() {
 }
 
 void SleeperCache::clear() {
+  touched();
   of.clear();
   partners.clear();
   entries.clear();
@@ -109,6 +120,7 @@ void ContactSet::scale_impulses(float factor) {
   };
   scale(warm);
   scale(kept.entries);
+  kept.touched();
 }
 
 }  // namespace ballpit

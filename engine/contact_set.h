@@ -75,6 +75,11 @@ struct SleeperCache {
   std::vector<WarmStartEntry> entries;  // the sleepers' spans, and holes left by those that woke
   std::size_t sleepers = 0;             // entities with since != kAwake
   std::size_t used = 0;                 // entries in their spans
+  // A stamp that no other content of any cache shares: every change through the methods below
+  // takes a new one, and a copy takes it with the entries, so two caches with one stamp hold the
+  // same (a snapshot copies the cache only when it changed: capture_snapshot). 0: empty, as made.
+  std::uint64_t stamp = 0;
+  void touched();
 
   std::uint32_t since_of(std::uint32_t entity) const { return entity < of.size() ? of[entity].since : kAwake; }
   bool asleep(std::uint32_t entity) const { return since_of(entity) != kAwake; }

@@ -90,7 +90,9 @@ void capture_snapshot(const World& world, Snapshot& s) {
   s.warm_begin = c.warm_begin;
   s.warm = c.warm;
   s.warm_row_slept = c.row_slept;
-  s.warm_kept = c.kept;
+  // The sleepers' entries change only when spheres fall asleep or wake: a settled pit's are
+  // copied once, not every step (the NaN guard captures after each step).
+  if (s.warm_kept.stamp != c.kept.stamp || c.kept.stamp == 0) s.warm_kept = c.kept;
   s.warm_stores = c.stores;
   capture_characters(world, s.characters, s.colliders);
 }
