@@ -458,6 +458,58 @@ TEST(NanGuard, ANaNWrittenByASystemNamesTheEntityAndTheSystem) {
   EXPECT_FALSE(find_non_finite(good).has_value());
 }
 
+// The guard keeps a checkpoint every kCheckpointSteps steps, not every step's state: a bad step
+// past a checkpoint is replayed from it, and the state it rebuilds is the one a capture just
+// before the bad step holds, to the bit.
+TEST(NanGuard, TheStateBeforeABadStepPastACheckpointIsRebuiltExactly) {
+  test::Sim s;
+  build_pour(s, false);
+  const std::uint64_t bad_step = NanGuard::kCheckpointSteps + 7;
+  const Entity victim{777, 0};
+  s.scheduler->emplace<Saboteur>(victim, bad_step);
+  NanGuard guard(s.world);
+  while (s.world.step_count < bad_step) guard.step(*s.loop, s.world, *s.scheduler);
+  Snapshot expected;
+  capture_snapshot(s.world, expected);
+  EXPECT_LT(guard.last_good().step_count, bad_step) << "the guard holds only its checkpoint before a bad step";
+  try {
+    guard.step(*s.loop, s.world, *s.scheduler);
+    ADD_FAILURE() << "the NaN went unnoticed";
+  } catch (const NonFiniteState& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("after system 'saboteur'"), std::string::npos) << message;
+    EXPECT_EQ(message.find("checkpoint"), std::string::npos) << "the replay came back to the bad step: " << message;
+  }
+  ASSERT_EQ(guard.last_good().step_count, bad_step);
+  World rebuilt, captured;
+  restore_snapshot(guard.last_good(), rebuilt);
+  restore_snapshot(expected, captured);
+  EXPECT_EQ(state_hash(rebuilt), state_hash(captured));
+  EXPECT_FALSE(find_non_finite(rebuilt).has_value());
+}
+
+// A world changed between steps (here a finite velocity poked in) cannot be replayed from the
+// checkpoint: the error says so, and the checkpoint stands as the last good state.
+TEST(NanGuard, AReplayThatDoesNotComeBackToTheBadStepSaysSoAndKeepsTheCheckpoint) {
+  test::Sim s;
+  build_pour(s, false);
+  const std::uint64_t bad_step = 5;
+  s.scheduler->emplace<Saboteur>(Entity{99, 0}, bad_step);
+  NanGuard guard(s.world);
+  guard.step(*s.loop, s.world, *s.scheduler);
+  s.world.spheres.mut_velocity()[s.world.spheres.row(Entity{12, 0})].x() += 1.0f;  // outside the loop
+  while (s.world.step_count < bad_step) guard.step(*s.loop, s.world, *s.scheduler);
+  try {
+    guard.step(*s.loop, s.world, *s.scheduler);
+    ADD_FAILURE() << "the NaN went unnoticed";
+  } catch (const NonFiniteState& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("did not come back to it"), std::string::npos) << message;
+    EXPECT_NE(message.find("last good state is that checkpoint's"), std::string::npos) << message;
+  }
+  EXPECT_EQ(guard.last_good().step_count, 0u);
+}
+
 TEST(NanGuard, ANaNInjectedBetweenStepsIsReportedWithItsEntity) {
   test::Sim s;
   build_pour(s, false);
