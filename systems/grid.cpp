@@ -193,6 +193,10 @@ void build_grid(SpatialGrid& g, std::span<const Vec3> p, std::span<const float> 
   // same order (sorted rows stay in place in a stable sort), and the same frame: bounds add up.
   if (sleepers_unchanged(g, g.split, p, r, asleep, s)) {
     const std::size_t awake = g.awake_rows();
+    if (!s.sleeper_bounds_measured) {  // once per full sort, and only if the sleepers then stay put
+      s.sleeper_bounds = measure(s.sleeper_positions, s.sleeper_radii);
+      s.sleeper_bounds_measured = true;
+    }
     GridBounds b = measure(p.first(awake), r.first(awake));
     b.add(s.sleeper_bounds);
     choose_extent(g, b, n);
@@ -229,7 +233,7 @@ void remember_sleepers(const SpatialGrid& g, std::span<const Vec3> p, std::span<
   const std::size_t awake = g.awake_rows();
   s.sleeper_positions.assign(p.begin() + static_cast<std::ptrdiff_t>(awake), p.end());
   s.sleeper_radii.assign(r.begin() + static_cast<std::ptrdiff_t>(awake), r.end());
-  s.sleeper_bounds = measure(p.subspan(awake), r.subspan(awake));
+  s.sleeper_bounds_measured = false;
 }
 
 std::vector<MemoryItem> GridSystem::held() const {

@@ -40,7 +40,8 @@ struct GridScratch {
   // finds them unchanged measures and sorts only the awake rows.
   std::vector<Vec3> sleeper_positions;
   std::vector<float> sleeper_radii;
-  GridBounds sleeper_bounds;
+  GridBounds sleeper_bounds;  // measured at the first rebuild that keeps them
+  bool sleeper_bounds_measured = false;
 };
 
 // Speculative margin a one-cell search covers, as a fraction of the largest radius. Larger
