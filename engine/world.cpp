@@ -29,6 +29,14 @@ Entity World::add_sphere(const SphereDesc& d) {
 }
 
 void World::remove_sphere(Entity e) {
+  // The table moves its last row into the removed one; the rows the last store marked asleep
+  // move alike, so that they keep naming the spheres in those rows (the solver reads them to
+  // tell which spheres it kept: systems/solver.cpp, keep_sleepers). A row past them was added
+  // since, awake then.
+  const std::uint32_t row = spheres.row(e), last = static_cast<std::uint32_t>(spheres.size() - 1);
+  std::vector<std::uint8_t>& slept = contacts.row_slept;
+  if (row < slept.size()) slept[row] = last < slept.size() ? slept[last] : std::uint8_t{0};
+  if (last < slept.size()) slept[last] = 0;
   spheres.remove(e);
   contacts.kept.forget(e.index);
   entities.destroy(e);

@@ -526,16 +526,19 @@ void keep_sleepers(World& world, SolverScratch& scratch) {
   auto asleep = spheres.asleep();
   const std::uint32_t store = ++cs.stores;
   const RowSpans spans = row_spans(asleep);
+  // The kept spheres are those that slept at the last store, whose rows it marked: an awake row
+  // whose row then was awake too has nothing to forget, and that byte, near its row, is read
+  // instead of its entity's record, at random (where rows are not known, every one is looked up).
+  const std::vector<std::uint32_t>& old_row = world.grid.new_to_old;
+  const bool rows_known = old_row.size() == n;
   if (kept.sleepers > 0)
     for (std::size_t i = 0; i < spans.awake_end; ++i)
-      if (!asleep[i]) kept.forget(entity[i]);
+      if (!asleep[i] && !(rows_known && old_row[i] < cs.row_slept.size() && !cs.row_slept[old_row[i]])) kept.forget(entity[i]);
   const std::size_t sleepers = static_cast<std::size_t>(std::count(asleep.begin(), asleep.end(), std::uint8_t{1}));
   // Kept entries left are all of spheres that still sleep; any other sleeper fell asleep since.
   // A sleeper whose row slept at the last store is no such one: that byte, not its entity's
   // record, rules out most (a sleeper's row that did not sleep then, or that rows no longer
   // name after a sphere was removed, is looked up).
-  const std::vector<std::uint32_t>& old_row = world.grid.new_to_old;
-  const bool rows_known = old_row.size() == n;
   if (sleepers > kept.sleepers) {
     std::vector<std::uint32_t>& fell = scratch.fell_asleep;
     auto find_fallen = [&](bool by_row) {

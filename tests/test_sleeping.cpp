@@ -163,6 +163,28 @@ TEST(Sleeping, ASettledPileFallsAsleepWholeAndStaysAtRest) {
   EXPECT_EQ(m.kinetic_energy_j, 0.0);
 }
 
+// The solver tells the spheres it kept apart by the rows the last store marked asleep; spheres
+// removed from a sleeping pile renumber rows, and every sleeper woken after must still drop its
+// kept entries (a stale mark would leave them kept, and counted, for good).
+TEST(Sleeping, SleepersWokenAfterSpheresWereRemovedDropTheirKeptEntries) {
+  test::Sim s;
+  sleepy_pour(s);
+  sleep_whole(s, 900);
+  ASSERT_EQ(sleepers(s.world), s.world.spheres.size());
+  // The last rows move into these: each removal renumbers a sleeper.
+  for (std::uint32_t row : {3u, 400u, 17u}) s.world.remove_sphere(s.world.spheres.entity_at(row));
+  ASSERT_GT(s.world.contacts.kept.sleepers, s.world.spheres.size() / 2);  // those asleep at the last solve
+  s.world.set_gravity(Vec3(0.0f, -9.0f, 0.0f));  // wakes every sphere
+  s.step();
+  EXPECT_EQ(s.world.contacts.kept.sleepers, sleepers(s.world)) << "a woken sphere kept its entries";
+  EXPECT_EQ(s.world.contacts.kept.used, [&] {
+    std::size_t used = 0;
+    for (std::size_t i = 0; i < s.world.spheres.size(); ++i)
+      used += s.world.contacts.kept.entries_of(s.world.spheres.entity_at(static_cast<std::uint32_t>(i)).index).size();
+    return used;
+  }());
+}
+
 TEST(Sleeping, ASleepingPileStruckByABallWakesAndComesToRestAgain) {
   // One ball dropped on the sleeping pile wakes the part of the pile it may reach as it lands
   // (the columns under it, down to a region's width under what it reaches: 128 of the 1,000);
