@@ -458,6 +458,21 @@ TEST(NanGuard, ANaNWrittenByASystemNamesTheEntityAndTheSystem) {
   EXPECT_FALSE(find_non_finite(good).has_value());
 }
 
+namespace {
+
+// Steps once under the guard, expecting it to throw NonFiniteState; returns its message.
+std::string message_of_bad_step(NanGuard& guard, test::Sim& s) {
+  try {
+    guard.step(*s.loop, s.world, *s.scheduler);
+  } catch (const NonFiniteState& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the NaN went unnoticed";
+  return "";
+}
+
+}  // namespace
+
 // The guard keeps a checkpoint every kCheckpointSteps steps, not every step's state: a bad step
 // past a checkpoint is replayed from it, and the state it rebuilds is the one a capture just
 // before the bad step holds, to the bit.
@@ -472,14 +487,9 @@ TEST(NanGuard, TheStateBeforeABadStepPastACheckpointIsRebuiltExactly) {
   Snapshot expected;
   capture_snapshot(s.world, expected);
   EXPECT_LT(guard.last_good().step_count, bad_step) << "the guard holds only its checkpoint before a bad step";
-  try {
-    guard.step(*s.loop, s.world, *s.scheduler);
-    ADD_FAILURE() << "the NaN went unnoticed";
-  } catch (const NonFiniteState& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("after system 'saboteur'"), std::string::npos) << message;
-    EXPECT_EQ(message.find("checkpoint"), std::string::npos) << "the replay came back to the bad step: " << message;
-  }
+  const std::string message = message_of_bad_step(guard, s);
+  EXPECT_NE(message.find("after system 'saboteur'"), std::string::npos) << message;
+  EXPECT_EQ(message.find("checkpoint"), std::string::npos) << "the replay came back to the bad step: " << message;
   ASSERT_EQ(guard.last_good().step_count, bad_step);
   World rebuilt, captured;
   restore_snapshot(guard.last_good(), rebuilt);
@@ -499,14 +509,9 @@ TEST(NanGuard, AReplayThatDoesNotComeBackToTheBadStepSaysSoAndKeepsTheCheckpoint
   guard.step(*s.loop, s.world, *s.scheduler);
   s.world.spheres.mut_velocity()[s.world.spheres.row(Entity{12, 0})].x() += 1.0f;  // outside the loop
   while (s.world.step_count < bad_step) guard.step(*s.loop, s.world, *s.scheduler);
-  try {
-    guard.step(*s.loop, s.world, *s.scheduler);
-    ADD_FAILURE() << "the NaN went unnoticed";
-  } catch (const NonFiniteState& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find("did not come back to it"), std::string::npos) << message;
-    EXPECT_NE(message.find("last good state is that checkpoint's"), std::string::npos) << message;
-  }
+  const std::string message = message_of_bad_step(guard, s);
+  EXPECT_NE(message.find("did not come back to it"), std::string::npos) << message;
+  EXPECT_NE(message.find("last good state is that checkpoint's"), std::string::npos) << message;
   EXPECT_EQ(guard.last_good().step_count, 0u);
 }
 
