@@ -33,22 +33,24 @@ void measure_overlaps(const World& world, Metrics& m) {
   for (std::size_t a = 0; a < n; ++a) {
     std::uint32_t i = cells[a].second;
     std::int64_t cx = coord(x[i].x()), cy = coord(x[i].y()), cz = coord(x[i].z());
+    // z is the key's lowest field, so a neighbour column's three cells are three adjacent keys:
+    // one search a column, not one a cell (27 binary searches a sphere took about 1.3 s at 1M),
+    // and the cells are visited in the same order as before, so the sums are too.
     for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          std::uint64_t k = pack(cx + dx, cy + dy, cz + dz);
-          auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(k, 0u));
-          for (; it != cells.end() && it->first == k; ++it) {
-            std::uint32_t j = it->second;
-            if (j <= i) continue;
-            double overlap = static_cast<double>(r[i] + r[j]) - (x[j] - x[i]).cast<double>().norm();
-            if (overlap <= 0.0) continue;
-            double frac = overlap / std::min(r[i], r[j]);
-            m.max_penetration_r = std::max(m.max_penetration_r, frac);
-            sum += frac;
-            ++m.overlapping_pairs;
-          }
+      for (int dy = -1; dy <= 1; ++dy) {
+        const std::uint64_t first = pack(cx + dx, cy + dy, cz - 1), last = pack(cx + dx, cy + dy, cz + 1);
+        auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(first, 0u));
+        for (; it != cells.end() && it->first <= last; ++it) {
+          std::uint32_t j = it->second;
+          if (j <= i) continue;
+          double overlap = static_cast<double>(r[i] + r[j]) - (x[j] - x[i]).cast<double>().norm();
+          if (overlap <= 0.0) continue;
+          double frac = overlap / std::min(r[i], r[j]);
+          m.max_penetration_r = std::max(m.max_penetration_r, frac);
+          sum += frac;
+          ++m.overlapping_pairs;
         }
+      }
   }
   if (m.overlapping_pairs) m.mean_penetration_r = sum / static_cast<double>(m.overlapping_pairs);
 }
